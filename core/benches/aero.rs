@@ -1,0 +1,58 @@
+//! Force+torque evaluation at N = 8 (f32, f64) and one RK4 step.
+//! Run: `cargo bench -p omniad-core --bench aero`.
+
+use criterion::{black_box, criterion_group, criterion_main, Criterion};
+use nalgebra::{Matrix3, Vector3};
+use omniad_core::integrate::rk4_step;
+use omniad_core::rigid_body::AirForces;
+use omniad_core::{Coefficients, Environment, Real, RigidBody, State};
+
+/// A degree-8 model with every coefficient non-zero (values are arbitrary
+/// but deterministic: the cost does not depend on them).
+fn model<T: Real>() -> Coefficients<T> {
+    let mut m = Coefficients::zeros(8, Vector3::z(), T::of_f64(0.58)).unwrap_or_else(|_| unreachable());
+    for k in 0..m.coeff_count() {
+        for i in 0..3 {
+            let v = T::of_f64(((k * 7 + i * 3) % 11) as f64 * 0.01 - 0.05);
+            let _ = m.set_alpha(i, k, v);
+            let _ = m.set_beta(i, k, v * T::of_f64(0.1));
+        }
+    }
+    let _ = m.set_damping(&(Matrix3::identity() * T::of_f64(0.02)));
+    m
+}
+
+fn unreachable() -> ! {
+    std::process::abort()
+}
+
+fn bench_eval<T: Real>(c: &mut Criterion, name: &str) {
+    let m = model::<T>();
+    let v = Vector3::new(T::of_f64(0.3), T::of_f64(-1.2), T::of_f64(-3.1));
+    let w = Vector3::new(T::of_f64(0.5), T::of_f64(0.1), T::of_f64(-0.7));
+    let rho = T::of_f64(1.2);
+    c.bench_function(name, |b| b.iter(|| m.wrench(black_box(&v), black_box(&w), rho)));
+}
+
+fn bench_rk4(c: &mut Criterion) {
+    let m = model::<f64>();
+    let body = RigidBody::new(0.048, Matrix3::from_diagonal(&Vector3::new(1.0e-3, 3.6e-4, 1.36e-3)))
+        .unwrap_or_else(|_| unreachable());
+    let env = Environment::standard();
+    let forces = AirForces { model: &m, environment: env };
+    let mut s = State::at_rest(Vector3::new(0.0, 0.0, 6.0));
+    s.velocity = Vector3::new(0.2, 0.1, -2.0);
+    s.angular_velocity = Vector3::new(1.0, 0.5, -0.3);
+    c.bench_function("rk4_step_n8_f64", |b| {
+        b.iter(|| rk4_step(&body, &env, &forces, 0.0, black_box(1e-3), black_box(&s)))
+    });
+}
+
+fn benches(c: &mut Criterion) {
+    bench_eval::<f32>(c, "force_torque_n8_f32");
+    bench_eval::<f64>(c, "force_torque_n8_f64");
+    bench_rk4(c);
+}
+
+criterion_group!(aero, benches);
+criterion_main!(aero);

@@ -1,0 +1,108 @@
+//! Aerodynamic force and torque: eqs. (5)-(8).
+
+use crate::basis::vector_basis;
+use crate::coefficients::{Coefficients, SETS};
+use crate::math::{lit, norm, Real};
+use crate::sh::{self, MAX_COEFFS};
+use nalgebra::Vector3;
+
+/// A force (N) and torque (N m) pair, both in the body frame unless stated.
+#[derive(Clone, Copy, Debug, PartialEq, Default)]
+pub struct Wrench<T: Real> {
+    /// Force, N.
+    pub force: Vector3<T>,
+    /// Torque about the centre of mass, N m.
+    pub torque: Vector3<T>,
+}
+
+impl<T: Real> Wrench<T> {
+    /// The zero wrench.
+    pub fn zero() -> Self {
+        Self { force: Vector3::zeros(), torque: Vector3::zeros() }
+    }
+}
+
+/// The non-dimensional coefficients `C_F(E)`, `C_T(E)` at one direction
+/// (body frame).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DirectionCoefficients<T: Real> {
+    /// Force coefficient `C_F(E)`, eq. (7).
+    pub force: Vector3<T>,
+    /// Torque coefficient `C_T(E)`, eq. (8).
+    pub torque: Vector3<T>,
+}
+
+impl<T: Real> Coefficients<T> {
+    /// `C_F(E)` and `C_T(E)`, eqs. (7)-(8), at a body-frame direction.
+    ///
+    /// `direction` need not be unit length; it is normalised. A zero or
+    /// non-finite direction gives `None`.
+    pub fn at_direction(&self, direction: &Vector3<T>) -> Option<DirectionCoefficients<T>> {
+        let len = norm(direction);
+        if !(len > T::zero()) || !len.finite() {
+            return None;
+        }
+        Some(self.at_unit_direction(&(direction / len)))
+    }
+
+    /// As [`Self::at_direction`] for a unit `e` (not checked).
+    pub fn at_unit_direction(&self, e: &Vector3<T>) -> DirectionCoefficients<T> {
+        let mut y = [T::zero(); MAX_COEFFS];
+        let n = sh::evaluate(self.degree() as usize, e, &mut y);
+        let s = weighted_sums(self.rows(), y.get(..n).unwrap_or(&[]));
+        let basis = vector_basis(e, &self.pole());
+        let [b1, b2, b3] = basis;
+        let [a1, a2, a3, t1, t2, t3] = s;
+        DirectionCoefficients {
+            force: b1 * a1 + b2 * a2 + b3 * a3,
+            torque: b1 * t1 + b2 * t2 + b3 * t3,
+        }
+    }
+
+    /// Force and torque of the air on the body, eqs. (5)-(6), body frame.
+    ///
+    /// * `velocity`: body velocity relative to the air, body frame, m/s
+    ///   (`V = Rᵀ(v - v_wind)`);
+    /// * `angular_velocity`: Ω, body frame, rad/s;
+    /// * `air_density`: ρ, kg/m³.
+    ///
+    /// `V = 0` gives no velocity term; `Ω = 0` no damping term.
+    pub fn wrench(
+        &self,
+        velocity: &Vector3<T>,
+        angular_velocity: &Vector3<T>,
+        air_density: T,
+    ) -> Wrench<T> {
+        let l = self.reference_length();
+        let half_rho = lit::<T>(0.5) * air_density;
+        let speed_sq = velocity.dot(velocity);
+        let mut out = Wrench::zero();
+        if speed_sq > T::zero() && speed_sq.finite() {
+            let e = velocity / speed_sq.root();
+            let c = self.at_unit_direction(&e);
+            let q = half_rho * speed_sq;
+            out.force = c.force * (q * l * l);
+            out.torque = c.torque * (q * l * l * l);
+        }
+        // Damping, second term of eq. (6): -½ρ D |Ω| Ω L⁵.
+        let spin = norm(angular_velocity);
+        if spin > T::zero() {
+            let l2 = l * l;
+            let damping = self.damping() * angular_velocity * (half_rho * spin * l2 * l2 * l);
+            out.torque -= damping;
+        }
+        out
+    }
+}
+
+/// The six sums `Σ_k w[k][j] y[k]` with independent accumulators.
+#[inline(always)]
+fn weighted_sums<T: Real>(rows: &[[T; SETS]], y: &[T]) -> [T; SETS] {
+    let mut acc = [T::zero(); SETS];
+    for (row, &yk) in rows.iter().zip(y) {
+        for (a, &w) in acc.iter_mut().zip(row) {
+            *a += w * yk;
+        }
+    }
+    acc
+}

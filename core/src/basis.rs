@@ -1,0 +1,60 @@
+//! The vector basis of §4.2: `E1 = E`, `E2 = (E × Z)/|E × Z|`, `E3 = E × E2`.
+//!
+//! `E1` is the radial (drag) direction, `E2` the longitudinal and `E3` the
+//! latitudinal direction on a sphere whose north pole is the object's axis
+//! `Z`. The basis is right-handed and orthonormal: `E1 × E2 = E3`.
+//!
+//! **Poles.** At `E = ±Z`, `E × Z` vanishes and the paper picks "an
+//! arbitrary direction orthogonal to Z". We pick, deterministically, the
+//! limit reached when approaching the pole along the meridian through the
+//! body axis least aligned with `Z` (call it `A`): `E2 = (A × Z)/|A × Z|`
+//! re-orthogonalised against `E`. Near the poles `E2` is re-orthogonalised
+//! against `E` by one Gram-Schmidt step, so the basis stays orthonormal to
+//! rounding even when `|E × Z|` is as small as 1e-12 (where the plain
+//! formula loses most of its digits to cancellation). No input produces NaN
+//! unless `E` or `Z` already contains NaN.
+
+use crate::math::{norm, Real};
+use nalgebra::Vector3;
+
+/// The orthonormal frame `[E1, E2, E3]` at direction `e` for pole `pole`.
+///
+/// `e` and `pole` must be unit vectors.
+pub fn vector_basis<T: Real>(e: &Vector3<T>, pole: &Vector3<T>) -> [Vector3<T>; 3] {
+    let cross = e.cross(pole);
+    let len = norm(&cross);
+    // Below this the cross product carries no direction information.
+    let tiny = T::default_epsilon() * T::default_epsilon();
+    let raw = if len > tiny {
+        cross / len
+    } else {
+        pole_fallback(pole)
+    };
+    // One Gram-Schmidt step: removes the rounding error of the cross
+    // product (relative 1e-16 / |E × Z|) from E2 · E.
+    let e2 = raw - e * e.dot(&raw);
+    let len2 = norm(&e2);
+    let e2 = if len2 > tiny { e2 / len2 } else { pole_fallback(pole) };
+    let e3 = e.cross(&e2);
+    [*e, e2, e3]
+}
+
+/// `(A × Z)/|A × Z|` with `A` the coordinate axis least aligned with `Z`.
+fn pole_fallback<T: Real>(pole: &Vector3<T>) -> Vector3<T> {
+    let (ax, ay, az) = (pole.x.abs(), pole.y.abs(), pole.z.abs());
+    let axis = if ax <= ay && ax <= az {
+        Vector3::x()
+    } else if ay <= az {
+        Vector3::y()
+    } else {
+        Vector3::z()
+    };
+    let c = axis.cross(pole);
+    let len = norm(&c);
+    if len > T::zero() {
+        c / len
+    } else {
+        // Only reachable when `pole` is zero or NaN, which the model rejects.
+        Vector3::y()
+    }
+}

@@ -1,0 +1,316 @@
+//! The OmniAD coefficient model: alpha, beta (eqs. 7-8), the damping tensor
+//! D (eq. 6), the object's reference length L and pole Z, the rigid body it
+//! was measured on, provenance, and model extensions.
+
+use crate::math::{is_positive_semidefinite, six_from_symmetric, symmetric_from_six, Real};
+use crate::sh::{self, MAX_COEFFS, MAX_DEGREE};
+use nalgebra::{Matrix3, Vector3};
+
+/// Number of interleaved coefficient sets: `alpha^1..3`, `beta^1..3`.
+pub const SETS: usize = 6;
+/// Longest object name, in bytes (UTF-8).
+pub const NAME_CAPACITY: usize = 64;
+/// Longest free-text provenance field, in bytes.
+pub const TEXT_CAPACITY: usize = 128;
+/// Most iterations whose residuals are recorded.
+pub const MAX_ITERATIONS: usize = 16;
+/// Coverage grid: longitude divisions (as the paper's §6 grid).
+pub const COVERAGE_LON: usize = 32;
+/// Coverage grid: latitude divisions.
+pub const COVERAGE_LAT: usize = 16;
+/// Number of coverage cells.
+pub const COVERAGE_CELLS: usize = COVERAGE_LON * COVERAGE_LAT;
+/// Most model extensions in one model.
+pub const MAX_EXTENSIONS: usize = 8;
+/// Largest extension payload, in bytes.
+pub const EXTENSION_CAPACITY: usize = 96;
+
+/// Why a model (or a value for it) is not acceptable. Small and `Copy`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ModelError {
+    /// Degree above [`MAX_DEGREE`].
+    DegreeTooHigh(u8),
+    /// A number is NaN or infinite; names the field.
+    NonFinite(&'static str),
+    /// The pole is zero-length.
+    BadPole,
+    /// The reference length is not positive.
+    BadReferenceLength,
+    /// D is not symmetric positive semi-definite.
+    DampingNotPositiveSemidefinite,
+    /// Mass not positive or inertia not positive definite.
+    BadBody,
+    /// A fixed-capacity field is full; names the field.
+    CapacityExceeded(&'static str),
+    /// Index out of range; names what was indexed.
+    OutOfRange(&'static str),
+}
+
+impl core::fmt::Display for ModelError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match self {
+            Self::DegreeTooHigh(n) => write!(f, "degree {n} is above the maximum {MAX_DEGREE}"),
+            Self::NonFinite(field) => write!(f, "non-finite number in {field}"),
+            Self::BadPole => write!(f, "pole must be a non-zero vector"),
+            Self::BadReferenceLength => write!(f, "reference length must be positive"),
+            Self::DampingNotPositiveSemidefinite => {
+                write!(f, "damping tensor D is not symmetric positive semi-definite")
+            }
+            Self::BadBody => write!(f, "mass must be positive and inertia positive definite"),
+            Self::CapacityExceeded(field) => write!(f, "{field} exceeds its fixed capacity"),
+            Self::OutOfRange(what) => write!(f, "{what} index out of range"),
+        }
+    }
+}
+
+#[cfg(feature = "std")]
+impl std::error::Error for ModelError {}
+
+/// Mass properties of the object the coefficients were measured on.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MassProperties {
+    /// Mass M, kg.
+    pub mass: f64,
+    /// Inertia tensor about the centre of mass, body frame, kg m²,
+    /// `[xx, yy, zz, xy, xz, yz]`.
+    pub inertia: [f64; 6],
+}
+
+/// How the coefficients were made.
+#[derive(Clone, Debug, PartialEq, Default)]
+pub struct Provenance {
+    /// Method, e.g. `"fit-lsq"`, `"fit-paper"`, `"projection"`.
+    pub method: heapless::String<32>,
+    /// Free text: source data set or generating command.
+    pub source: heapless::String<TEXT_CAPACITY>,
+    /// Frames used by the fit.
+    pub frames_used: u32,
+    /// Frames dropped (stability enforcement, gating, ...).
+    pub frames_dropped: u32,
+    /// RMS force-coefficient residual per refinement iteration
+    /// (non-dimensional, eq. 5).
+    pub force_residuals: heapless::Vec<f64, MAX_ITERATIONS>,
+    /// RMS torque-coefficient residual per refinement iteration.
+    pub torque_residuals: heapless::Vec<f64, MAX_ITERATIONS>,
+    /// Frames per direction cell on a [`COVERAGE_LON`] x [`COVERAGE_LAT`]
+    /// grid (longitude-major, latitude from +Z to -Z about the pole);
+    /// empty when unknown.
+    pub coverage: heapless::Vec<u16, COVERAGE_CELLS>,
+}
+
+/// Kinds of model extension known to this version. Unknown kinds found in
+/// a file are kept (and written back) but not evaluated.
+pub mod extension_kind {
+    /// Added mass (reserved for the residual-analysis work).
+    pub const ADDED_MASS: u16 = 1;
+    /// Buoyancy of displaced air (reserved).
+    pub const BUOYANCY: u16 = 2;
+}
+
+/// A model extension: a term outside eqs. (5)-(6), stored as a tagged,
+/// versioned byte payload so that readers that do not know a kind can still
+/// load the file and keep the term.
+#[derive(Clone, Debug, PartialEq, Default)]
+pub struct Extension {
+    /// See [`extension_kind`].
+    pub kind: u16,
+    /// Version of this kind's payload layout.
+    pub version: u8,
+    /// The payload (postcard of the kind's parameters).
+    pub data: heapless::Vec<u8, EXTENSION_CAPACITY>,
+}
+
+/// The OmniAD coefficients of one object.
+///
+/// Storage is interleaved for evaluation speed: `weights[k]` holds
+/// `[alpha^1_k, alpha^2_k, alpha^3_k, beta^1_k, beta^2_k, beta^3_k]` for the
+/// SH index `k = l*l + l + m`, so that evaluating eqs. (7)-(8) is one pass
+/// over `(N+1)^2` rows with six independent accumulators.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Coefficients<T: Real> {
+    name: heapless::String<NAME_CAPACITY>,
+    degree: u8,
+    pole: Vector3<T>,
+    reference_length: T,
+    weights: [[T; SETS]; MAX_COEFFS],
+    damping: Matrix3<T>,
+    /// Mass properties of the measured object, if known.
+    pub body: Option<MassProperties>,
+    /// How these coefficients were made.
+    pub provenance: Provenance,
+    /// Terms outside eqs. (5)-(6).
+    pub extensions: heapless::Vec<Extension, MAX_EXTENSIONS>,
+}
+
+impl<T: Real> Coefficients<T> {
+    /// All-zero coefficients of the given degree, pole and reference length
+    /// L (m). The pole is normalised.
+    pub fn zeros(degree: u8, pole: Vector3<T>, reference_length: T) -> Result<Self, ModelError> {
+        if degree as usize > MAX_DEGREE {
+            return Err(ModelError::DegreeTooHigh(degree));
+        }
+        if !crate::math::vector_is_finite(&pole) {
+            return Err(ModelError::NonFinite("pole"));
+        }
+        let len = crate::math::norm(&pole);
+        if len <= T::zero() {
+            return Err(ModelError::BadPole);
+        }
+        if !reference_length.finite() {
+            return Err(ModelError::NonFinite("reference_length"));
+        }
+        if reference_length <= T::zero() {
+            return Err(ModelError::BadReferenceLength);
+        }
+        Ok(Self {
+            name: heapless::String::new(),
+            degree,
+            pole: pole / len,
+            reference_length,
+            weights: [[T::zero(); SETS]; MAX_COEFFS],
+            damping: Matrix3::zeros(),
+            body: None,
+            provenance: Provenance::default(),
+            extensions: heapless::Vec::new(),
+        })
+    }
+
+    /// SH degree N.
+    pub fn degree(&self) -> u8 {
+        self.degree
+    }
+    /// Number of SH coefficients per component, `(N+1)^2`.
+    pub fn coeff_count(&self) -> usize {
+        sh::coeff_count(self.degree as usize)
+    }
+    /// The unit pole Z of the vector basis (body frame).
+    pub fn pole(&self) -> Vector3<T> {
+        self.pole
+    }
+    /// Reference length L, m (bounding-box diagonal).
+    pub fn reference_length(&self) -> T {
+        self.reference_length
+    }
+    /// Sets L, m.
+    pub fn set_reference_length(&mut self, length: T) -> Result<(), ModelError> {
+        if !length.finite() {
+            return Err(ModelError::NonFinite("reference_length"));
+        }
+        if length <= T::zero() {
+            return Err(ModelError::BadReferenceLength);
+        }
+        self.reference_length = length;
+        Ok(())
+    }
+    /// Object name.
+    pub fn name(&self) -> &str {
+        &self.name
+    }
+    /// Sets the name; too long a name is an error (nothing is truncated).
+    pub fn set_name(&mut self, name: &str) -> Result<(), ModelError> {
+        let mut s = heapless::String::new();
+        s.push_str(name).map_err(|_| ModelError::CapacityExceeded("name"))?;
+        self.name = s;
+        Ok(())
+    }
+    /// The damping tensor D (symmetric, non-dimensional, eq. 6).
+    pub fn damping(&self) -> Matrix3<T> {
+        self.damping
+    }
+    /// Sets D; it must be finite, symmetric positive semi-definite (§4.1).
+    /// The symmetric part of `d` is stored.
+    pub fn set_damping(&mut self, d: &Matrix3<T>) -> Result<(), ModelError> {
+        let six = six_from_symmetric(d);
+        if six.iter().any(|x| !x.finite()) {
+            return Err(ModelError::NonFinite("damping"));
+        }
+        if !is_positive_semidefinite(six.map(|x| x.as_f64())) {
+            return Err(ModelError::DampingNotPositiveSemidefinite);
+        }
+        self.damping = symmetric_from_six(six);
+        Ok(())
+    }
+
+    /// `alpha^i_k` (force, eq. 7); `component` is `i - 1` in `0..3`.
+    pub fn alpha(&self, component: usize, k: usize) -> Option<T> {
+        self.get(component, k)
+    }
+    /// `beta^i_k` (torque, eq. 8); `component` is `i - 1` in `0..3`.
+    pub fn beta(&self, component: usize, k: usize) -> Option<T> {
+        self.get(component + 3, k)
+    }
+    /// Sets `alpha^i_k`.
+    pub fn set_alpha(&mut self, component: usize, k: usize, v: T) -> Result<(), ModelError> {
+        if component >= 3 {
+            return Err(ModelError::OutOfRange("alpha component"));
+        }
+        self.set(component, k, v, "alpha")
+    }
+    /// Sets `beta^i_k`.
+    pub fn set_beta(&mut self, component: usize, k: usize, v: T) -> Result<(), ModelError> {
+        if component >= 3 {
+            return Err(ModelError::OutOfRange("beta component"));
+        }
+        self.set(component + 3, k, v, "beta")
+    }
+
+    fn get(&self, set: usize, k: usize) -> Option<T> {
+        if k >= self.coeff_count() {
+            return None;
+        }
+        self.weights.get(k)?.get(set).copied()
+    }
+
+    fn set(&mut self, set: usize, k: usize, v: T, field: &'static str) -> Result<(), ModelError> {
+        if !v.finite() {
+            return Err(ModelError::NonFinite(field));
+        }
+        if k >= self.coeff_count() {
+            return Err(ModelError::OutOfRange(field));
+        }
+        let slot = self
+            .weights
+            .get_mut(k)
+            .and_then(|row| row.get_mut(set))
+            .ok_or(ModelError::OutOfRange(field))?;
+        *slot = v;
+        Ok(())
+    }
+
+    /// The interleaved rows actually used, `(N+1)^2` of them.
+    pub(crate) fn rows(&self) -> &[[T; SETS]] {
+        self.weights.get(..self.coeff_count()).unwrap_or(&[])
+    }
+
+    /// The same model in another scalar type.
+    pub fn cast<U: Real>(&self) -> Coefficients<U> {
+        let c = |x: T| U::of_f64(x.as_f64());
+        Coefficients {
+            name: self.name.clone(),
+            degree: self.degree,
+            pole: self.pole.map(c),
+            reference_length: c(self.reference_length),
+            weights: self.weights.map(|row| row.map(c)),
+            damping: self.damping.map(c),
+            body: self.body,
+            provenance: self.provenance.clone(),
+            extensions: self.extensions.clone(),
+        }
+    }
+
+    /// Changes the degree: truncates (drops l > degree) or zero-extends.
+    pub fn with_degree(&self, degree: u8) -> Result<Self, ModelError> {
+        if degree as usize > MAX_DEGREE {
+            return Err(ModelError::DegreeTooHigh(degree));
+        }
+        let mut out = self.clone();
+        let keep = sh::coeff_count(degree as usize);
+        for (k, row) in out.weights.iter_mut().enumerate() {
+            if k >= keep {
+                *row = [T::zero(); SETS];
+            }
+        }
+        out.degree = degree;
+        Ok(out)
+    }
+}

@@ -1,0 +1,41 @@
+//! # omniad-core
+//!
+//! The OmniAD model of Martin, Umetani & Bickel (SIGGRAPH 2015) for embedded
+//! and host use: `#![no_std]`, no allocator, no panics.
+//!
+//! * [`sh`]: real orthonormal spherical harmonics `Y_lm` (eqs. 7-8).
+//! * [`basis`]: the vector basis `E1, E2, E3` of §4.2.
+//! * [`coefficients`]: the coefficient model (alpha, beta, D, provenance, extensions).
+//! * [`aero`]: aerodynamic force and torque, eqs. (5)-(6).
+//! * [`rigid_body`], [`integrate`]: eqs. (1)-(2) and a pure fixed-step RK4 step.
+//! * [`file`]: the `*.omni` coefficient file format.
+//!
+//! Every quantity is SI (m, kg, s, rad) unless a doc comment says otherwise.
+#![no_std]
+#![deny(
+    clippy::unwrap_used,
+    clippy::expect_used,
+    clippy::panic,
+    clippy::indexing_slicing,
+    clippy::unimplemented,
+    clippy::todo,
+    clippy::unreachable
+)]
+
+#[cfg(feature = "std")]
+extern crate std;
+
+pub mod aero;
+pub mod basis;
+pub mod coefficients;
+pub mod crc32;
+pub mod file;
+pub mod integrate;
+pub mod math;
+pub mod rigid_body;
+pub mod sh;
+
+pub use aero::Wrench;
+pub use coefficients::{Coefficients, ModelError};
+pub use math::Real;
+pub use rigid_body::{Environment, RigidBody, State};

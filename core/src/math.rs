@@ -1,0 +1,114 @@
+//! The scalar type and the few vector helpers the model needs.
+//!
+//! The core is generic over [`Real`] (implemented for `f32` and `f64`)
+//! rather than using a feature-selected alias: the firmware needs `f32`
+//! (single-precision FPU) while the host fits in `f64`, and both must be
+//! usable from one build (e.g. the host compares its `f32` results
+//! bit-for-bit with the firmware's, and benchmarks both). Cargo features are
+//! unified across a build, so an alias could not give both at once.
+
+use nalgebra::{Matrix3, RealField, Vector3};
+
+/// A floating-point scalar usable by the model: `f32` or `f64`.
+pub trait Real: RealField + Copy + Default + core::fmt::Debug {
+    /// Converts from `f64` (rounding to nearest for `f32`).
+    fn of_f64(x: f64) -> Self;
+    /// Widens to `f64` (exact).
+    fn as_f64(self) -> f64;
+    /// Square root. Kept on this trait so that targets with a hardware
+    /// square root can route it there.
+    fn root(self) -> Self;
+    /// True when the value is neither NaN nor infinite.
+    fn finite(self) -> bool;
+}
+
+impl Real for f32 {
+    #[inline(always)]
+    fn of_f64(x: f64) -> Self {
+        x as f32
+    }
+    #[inline(always)]
+    fn as_f64(self) -> f64 {
+        self as f64
+    }
+    #[inline(always)]
+    fn root(self) -> Self {
+        libm::sqrtf(self)
+    }
+    #[inline(always)]
+    fn finite(self) -> bool {
+        self.is_finite()
+    }
+}
+
+impl Real for f64 {
+    #[inline(always)]
+    fn of_f64(x: f64) -> Self {
+        x
+    }
+    #[inline(always)]
+    fn as_f64(self) -> f64 {
+        self
+    }
+    #[inline(always)]
+    fn root(self) -> Self {
+        libm::sqrt(self)
+    }
+    #[inline(always)]
+    fn finite(self) -> bool {
+        self.is_finite()
+    }
+}
+
+/// Shorthand for a literal converted to `T`.
+#[inline(always)]
+pub fn lit<T: Real>(x: f64) -> T {
+    T::of_f64(x)
+}
+
+/// True when every component is finite.
+pub fn vector_is_finite<T: Real>(v: &Vector3<T>) -> bool {
+    v.iter().all(|x| x.finite())
+}
+
+/// Euclidean norm through [`Real::root`].
+#[inline(always)]
+pub fn norm<T: Real>(v: &Vector3<T>) -> T {
+    v.dot(v).root()
+}
+
+/// A symmetric 3x3 matrix from its six independent entries
+/// `[xx, yy, zz, xy, xz, yz]` (the order used in files).
+pub fn symmetric_from_six<T: Real>(s: [T; 6]) -> Matrix3<T> {
+    let [xx, yy, zz, xy, xz, yz] = s;
+    Matrix3::new(xx, xy, xz, xy, yy, yz, xz, yz, zz)
+}
+
+/// The six independent entries `[xx, yy, zz, xy, xz, yz]` of the symmetric
+/// part of `m`.
+pub fn six_from_symmetric<T: Real>(m: &Matrix3<T>) -> [T; 6] {
+    let h = lit::<T>(0.5);
+    [
+        m.m11,
+        m.m22,
+        m.m33,
+        (m.m12 + m.m21) * h,
+        (m.m13 + m.m31) * h,
+        (m.m23 + m.m32) * h,
+    ]
+}
+
+/// Whether a symmetric matrix given by six entries is positive
+/// semi-definite, by Sylvester-style checks on all principal minors
+/// (with a tolerance relative to the largest entry).
+pub fn is_positive_semidefinite(s: [f64; 6]) -> bool {
+    let [xx, yy, zz, xy, xz, yz] = s;
+    let scale = s.iter().fold(0.0f64, |a, b| a.max(b.abs())).max(f64::MIN_POSITIVE);
+    let tol = 1e-9 * scale;
+    let tol2 = tol * scale;
+    let tol3 = tol2 * scale;
+    let minors1 = [xx, yy, zz];
+    let minors2 = [xx * yy - xy * xy, xx * zz - xz * xz, yy * zz - yz * yz];
+    let det = xx * (yy * zz - yz * yz) - xy * (xy * zz - yz * xz) + xz * (xy * yz - yy * xz);
+    minors1.iter().all(|&m| m >= -tol) && minors2.iter().all(|&m| m >= -tol2) && det >= -tol3
+}

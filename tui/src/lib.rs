@@ -1,0 +1,1 @@
+//! OmniAD terminal UI. Work in progress (issue 5).
