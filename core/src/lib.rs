@@ -31,6 +31,7 @@ pub mod coefficients;
 pub mod crc32;
 pub mod file;
 pub mod integrate;
+pub mod kite;
 pub mod math;
 pub mod rigid_body;
 pub mod sh;

@@ -33,7 +33,34 @@ impl Real for f32 {
     }
     #[inline(always)]
     fn root(self) -> Self {
-        libm::sqrtf(self)
+        // Hard-float Arm (e.g. Cortex-M4F): the FPU's `vsqrt.f32` (14
+        // cycles) instead of libm's software loop; both are correctly
+        // rounded, so results are bit-identical. Stable Rust cannot name
+        // VFP registers in `asm!` (the `vfp2` feature is unstable), so the
+        // value goes through a core register and s0 is saved and restored.
+        #[cfg(all(target_arch = "arm", target_abi = "eabihf"))]
+        {
+            let mut bits = self.to_bits();
+            // SAFETY: register-only FPU instructions, present on every
+            // hard-float Arm target; s0 is restored before the block ends.
+            unsafe {
+                core::arch::asm!(
+                    "vmov {saved}, s0",
+                    "vmov s0, {x}",
+                    "vsqrt.f32 s0, s0",
+                    "vmov {x}, s0",
+                    "vmov s0, {saved}",
+                    x = inout(reg) bits,
+                    saved = out(reg) _,
+                    options(pure, nomem, nostack),
+                );
+            }
+            f32::from_bits(bits)
+        }
+        #[cfg(not(all(target_arch = "arm", target_abi = "eabihf")))]
+        {
+            libm::sqrtf(self)
+        }
     }
     #[inline(always)]
     fn finite(self) -> bool {

@@ -27,7 +27,7 @@ pub const fn coeff_count(degree: usize) -> usize {
 
 /// Flat index of `(l, m)`, `-l <= m <= l`.
 pub const fn index(l: usize, m: isize) -> usize {
-    (l * l + l) as isize as usize + m as usize
+    ((l * l + l) as isize + m) as usize
 }
 
 const fn const_sqrt(x: f64) -> f64 {

@@ -1,0 +1,118 @@
+//! `omniad info FILE [--json]`.
+
+use super::common::read_coefficients;
+use anyhow::Result;
+use clap::Args;
+use omniad_core::coefficients::{COVERAGE_CELLS, COVERAGE_LAT, COVERAGE_LON};
+use omniad_core::math::six_from_symmetric;
+use omniad_core::Coefficients;
+use serde_json::json;
+use std::path::PathBuf;
+
+/// Arguments of `omniad info`.
+#[derive(Args, Debug)]
+pub struct InfoArgs {
+    /// Coefficient file (.omni).
+    pub file: PathBuf,
+    /// Print machine-readable JSON instead of text.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// Runs `omniad info`.
+pub fn run(args: &InfoArgs) -> Result<()> {
+    let m = read_coefficients(&args.file)?;
+    let summary = summary(&m);
+    if args.json {
+        println!("{}", serde_json::to_string_pretty(&summary)?);
+    } else {
+        print_text(&m, &summary);
+    }
+    Ok(())
+}
+
+/// Drag coefficient `-C_F(E)·E` along the six body axes.
+fn axis_drag(m: &Coefficients<f64>) -> Vec<(String, f64)> {
+    let axes = [("+x", [1., 0., 0.]), ("-x", [-1., 0., 0.]), ("+y", [0., 1., 0.]), ("-y", [0., -1., 0.]), ("+z", [0., 0., 1.]), ("-z", [0., 0., -1.])];
+    axes.iter()
+        .filter_map(|(n, a)| {
+            let e = nalgebra::Vector3::from(*a);
+            m.at_direction(&e).map(|c| (n.to_string(), -c.force.dot(&e)))
+        })
+        .collect()
+}
+
+fn coverage_summary(m: &Coefficients<f64>) -> serde_json::Value {
+    let cov = &m.provenance.coverage;
+    if cov.len() != COVERAGE_CELLS {
+        return serde_json::Value::Null;
+    }
+    let covered = cov.iter().filter(|&&c| c > 0).count();
+    let dense = cov.iter().filter(|&&c| c >= 20).count();
+    json!({
+        "grid": [COVERAGE_LON, COVERAGE_LAT],
+        "cells": COVERAGE_CELLS,
+        "cells_with_frames": covered,
+        "cells_with_20_frames": dense,
+        "fraction_covered": covered as f64 / COVERAGE_CELLS as f64,
+        "max_frames_in_cell": cov.iter().max().copied().unwrap_or(0),
+    })
+}
+
+fn summary(m: &Coefficients<f64>) -> serde_json::Value {
+    let p = &m.provenance;
+    json!({
+        "name": m.name(),
+        "degree": m.degree(),
+        "coefficients_per_component": m.coeff_count(),
+        "pole": [m.pole().x, m.pole().y, m.pole().z],
+        "reference_length_m": m.reference_length(),
+        "damping_xx_yy_zz_xy_xz_yz": six_from_symmetric(&m.damping()),
+        "mass_kg": m.body.map(|b| b.mass),
+        "inertia_kg_m2_xx_yy_zz_xy_xz_yz": m.body.map(|b| b.inertia),
+        "axis_drag_coefficient": axis_drag(m).into_iter().map(|(k, v)| (k, json!(v))).collect::<serde_json::Map<_, _>>(),
+        "provenance": {
+            "method": p.method.as_str(),
+            "source": p.source.as_str(),
+            "frames_used": p.frames_used,
+            "frames_dropped": p.frames_dropped,
+            "force_residuals": p.force_residuals.as_slice(),
+            "torque_residuals": p.torque_residuals.as_slice(),
+            "coverage": coverage_summary(m),
+        },
+        "extensions": m.extensions.iter().map(|e| json!({"kind": e.kind, "version": e.version, "bytes": e.data.len()})).collect::<Vec<_>>(),
+    })
+}
+
+fn print_text(m: &Coefficients<f64>, s: &serde_json::Value) {
+    println!("name:              {}", m.name());
+    println!("degree N:          {} ({} SH coefficients per component)", m.degree(), m.coeff_count());
+    let z = m.pole();
+    println!("pole Z (body):     [{:.4}, {:.4}, {:.4}]", z.x, z.y, z.z);
+    println!("reference length:  {:.4} m", m.reference_length());
+    let d = six_from_symmetric(&m.damping());
+    println!("damping D:         xx {:.4e} yy {:.4e} zz {:.4e} xy {:.4e} xz {:.4e} yz {:.4e}", d[0], d[1], d[2], d[3], d[4], d[5]);
+    match &m.body {
+        Some(b) => println!("mass:              {:.4} kg, inertia diag [{:.3e}, {:.3e}, {:.3e}] kg m^2", b.mass, b.inertia[0], b.inertia[1], b.inertia[2]),
+        None => println!("mass:              (not recorded)"),
+    }
+    println!("drag -C_F(E)·E along body axes:");
+    for (axis, cd) in axis_drag(m) {
+        println!("  E = {axis}: {cd:8.4}");
+    }
+    let p = &m.provenance;
+    println!("provenance:        method {:?}, source {:?}", p.method.as_str(), p.source.as_str());
+    println!("frames:            {} used, {} dropped", p.frames_used, p.frames_dropped);
+    if !p.force_residuals.is_empty() {
+        println!("force residuals:   {:?}", p.force_residuals.as_slice());
+        println!("torque residuals:  {:?}", p.torque_residuals.as_slice());
+    }
+    match s["provenance"]["coverage"].as_object() {
+        Some(c) => println!(
+            "coverage:          {} of {} direction cells have frames, {} have >= 20",
+            c["cells_with_frames"], c["cells"], c["cells_with_20_frames"]
+        ),
+        None => println!("coverage:          (not recorded)"),
+    }
+    println!("extensions:        {}", m.extensions.len());
+}
