@@ -9,8 +9,8 @@
 //! limit reached when approaching the pole along the meridian through the
 //! body axis least aligned with `Z` (call it `A`): `E2 = (A × Z)/|A × Z|`
 //! re-orthogonalised against `E`. Near the poles `E2` is re-orthogonalised
-//! against `E` by one Gram-Schmidt step, so the basis stays orthonormal to
-//! rounding even when `|E × Z|` is as small as 1e-12 (where the plain
+//! against `Z` and `E` (Gram-Schmidt), so the basis stays orthonormal, and
+//! `E2 ⟂ Z`, to rounding even when `|E × Z|` is as small as 1e-12 (where the plain
 //! formula loses most of its digits to cancellation). No input produces NaN
 //! unless `E` or `Z` already contains NaN.
 
@@ -30,8 +30,12 @@ pub fn vector_basis<T: Real>(e: &Vector3<T>, pole: &Vector3<T>) -> [Vector3<T>; 
     } else {
         pole_fallback(pole)
     };
-    // One Gram-Schmidt step: removes the rounding error of the cross
-    // product (relative 1e-16 / |E × Z|) from E2 · E.
+    // Gram-Schmidt against Z, then E: removes the rounding error of the
+    // cross product (relative 1e-16 / |E × Z|) from E2 · Z and E2 · E. Far
+    // from the poles both steps change E2 only at rounding level; near
+    // them, E2 · E after the first step is at most |E - Z|, so the second
+    // step keeps E2 · Z at rounding level too.
+    let raw = raw - pole * pole.dot(&raw);
     let e2 = raw - e * e.dot(&raw);
     let len2 = norm(&e2);
     let e2 = if len2 > tiny { e2 / len2 } else { pole_fallback(pole) };

@@ -57,6 +57,9 @@ struct Tables {
     sub: [f64; MAX_DEGREE + 1],
 }
 
+// Indexing in a const initialiser cannot panic at run time: an out-of-range
+// index would be a compile error.
+#[allow(clippy::indexing_slicing)]
 const TABLES: Tables = {
     let mut t = Tables {
         a: [0.0; MAX_COEFFS],
