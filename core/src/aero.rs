@@ -1,9 +1,9 @@
 //! Aerodynamic force and torque: eqs. (5)-(8).
 
 use crate::basis::vector_basis;
-use crate::coefficients::{Coefficients, SETS};
+use crate::coefficients::Coefficients;
 use crate::math::{lit, norm, Real};
-use crate::sh::{self, MAX_COEFFS};
+use crate::sh;
 use nalgebra::Vector3;
 
 /// A force (N) and torque (N m) pair, both in the body frame unless stated.
@@ -47,12 +47,10 @@ impl<T: Real> Coefficients<T> {
 
     /// As [`Self::at_direction`] for a unit `e` (not checked).
     pub fn at_unit_direction(&self, e: &Vector3<T>) -> DirectionCoefficients<T> {
-        let mut y = [T::zero(); MAX_COEFFS];
-        let n = sh::evaluate(self.degree() as usize, e, &mut y);
-        let s = weighted_sums(self.rows(), y.get(..n).unwrap_or(&[]));
+        let s = sh::accumulate(self.degree() as usize, e, self.rows());
         let basis = vector_basis(e, &self.pole());
         let [b1, b2, b3] = basis;
-        let [a1, a2, a3, t1, t2, t3] = s;
+        let [a1, a2, a3, t1, t2, t3, _, _] = s;
         DirectionCoefficients {
             force: b1 * a1 + b2 * a2 + b3 * a3,
             torque: b1 * t1 + b2 * t2 + b3 * t3,
@@ -93,16 +91,4 @@ impl<T: Real> Coefficients<T> {
         }
         out
     }
-}
-
-/// The six sums `Σ_k w[k][j] y[k]` with independent accumulators.
-#[inline(always)]
-fn weighted_sums<T: Real>(rows: &[[T; SETS]], y: &[T]) -> [T; SETS] {
-    let mut acc = [T::zero(); SETS];
-    for (row, &yk) in rows.iter().zip(y) {
-        for (a, &w) in acc.iter_mut().zip(row) {
-            *a += w * yk;
-        }
-    }
-    acc
 }

@@ -8,6 +8,9 @@ use nalgebra::{Matrix3, Vector3};
 
 /// Number of interleaved coefficient sets: `alpha^1..3`, `beta^1..3`.
 pub const SETS: usize = 6;
+/// Row width: [`SETS`] padded to 8 so that the six accumulations run as
+/// full SIMD lanes on the host (two unused lanes stay zero).
+pub const ROW: usize = 8;
 /// Longest object name, in bytes (UTF-8).
 pub const NAME_CAPACITY: usize = 64;
 /// Longest free-text provenance field, in bytes.
@@ -122,17 +125,19 @@ pub struct Extension {
 
 /// The OmniAD coefficients of one object.
 ///
-/// Storage is interleaved for evaluation speed: `weights[k]` holds
-/// `[alpha^1_k, alpha^2_k, alpha^3_k, beta^1_k, beta^2_k, beta^3_k]` for the
-/// SH index `k = l*l + l + m`, so that evaluating eqs. (7)-(8) is one pass
-/// over `(N+1)^2` rows with six independent accumulators.
+/// Storage is interleaved for evaluation speed: each row holds
+/// `[alpha^1, alpha^2, alpha^3, beta^1, beta^2, beta^3]` of one `(l, m)`,
+/// rows in the recurrence's walk order ([`sh::walk_position`]), so that
+/// evaluating eqs. (7)-(8) is one streaming pass that fuses the SH
+/// recurrence with six independent accumulators ([`sh::accumulate`]). The
+/// public accessors take the standard index `k = l*l + l + m`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Coefficients<T: Real> {
     name: heapless::String<NAME_CAPACITY>,
     degree: u8,
     pole: Vector3<T>,
     reference_length: T,
-    weights: [[T; SETS]; MAX_COEFFS],
+    weights: [[T; ROW]; MAX_COEFFS],
     damping: Matrix3<T>,
     /// Mass properties of the measured object, if known.
     pub body: Option<MassProperties>,
@@ -167,7 +172,7 @@ impl<T: Real> Coefficients<T> {
             degree,
             pole: pole / len,
             reference_length,
-            weights: [[T::zero(); SETS]; MAX_COEFFS],
+            weights: [[T::zero(); ROW]; MAX_COEFFS],
             damping: Matrix3::zeros(),
             body: None,
             provenance: Provenance::default(),
@@ -254,31 +259,35 @@ impl<T: Real> Coefficients<T> {
         self.set(component + 3, k, v, "beta")
     }
 
-    fn get(&self, set: usize, k: usize) -> Option<T> {
+    /// Storage row of standard index `k` at this model's degree.
+    fn row_of(&self, k: usize) -> Option<usize> {
         if k >= self.coeff_count() {
             return None;
         }
-        self.weights.get(k)?.get(set).copied()
+        let (l, m) = sh::degree_order(k);
+        sh::walk_position(l, m, self.degree as usize)
+    }
+
+    fn get(&self, set: usize, k: usize) -> Option<T> {
+        self.weights.get(self.row_of(k)?)?.get(set).copied()
     }
 
     fn set(&mut self, set: usize, k: usize, v: T, field: &'static str) -> Result<(), ModelError> {
         if !v.finite() {
             return Err(ModelError::NonFinite(field));
         }
-        if k >= self.coeff_count() {
-            return Err(ModelError::OutOfRange(field));
-        }
+        let row = self.row_of(k).ok_or(ModelError::OutOfRange(field))?;
         let slot = self
             .weights
-            .get_mut(k)
+            .get_mut(row)
             .and_then(|row| row.get_mut(set))
             .ok_or(ModelError::OutOfRange(field))?;
         *slot = v;
         Ok(())
     }
 
-    /// The interleaved rows actually used, `(N+1)^2` of them.
-    pub(crate) fn rows(&self) -> &[[T; SETS]] {
+    /// The interleaved rows actually used, `(N+1)^2` of them, walk order.
+    pub(crate) fn rows(&self) -> &[[T; ROW]] {
         self.weights.get(..self.coeff_count()).unwrap_or(&[])
     }
 
@@ -304,13 +313,15 @@ impl<T: Real> Coefficients<T> {
             return Err(ModelError::DegreeTooHigh(degree));
         }
         let mut out = self.clone();
-        let keep = sh::coeff_count(degree as usize);
-        for (k, row) in out.weights.iter_mut().enumerate() {
-            if k >= keep {
-                *row = [T::zero(); SETS];
+        out.degree = degree;
+        out.weights = [[T::zero(); ROW]; MAX_COEFFS];
+        for k in 0..out.coeff_count().min(self.coeff_count()) {
+            if let (Some(from), Some(to)) = (self.row_of(k), out.row_of(k)) {
+                if let (Some(src), Some(dst)) = (self.weights.get(from), out.weights.get_mut(to)) {
+                    *dst = *src;
+                }
             }
         }
-        out.degree = degree;
         Ok(out)
     }
 }

@@ -21,6 +21,9 @@
     clippy::todo,
     clippy::unreachable
 )]
+// `!(x > 0)` is deliberate throughout: it is true for NaN, which must be
+// rejected along with non-positive values.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
 
 #[cfg(feature = "std")]
 extern crate std;

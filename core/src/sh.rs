@@ -89,6 +89,8 @@ const TABLES: Tables = {
 /// `1 / sqrt(4π)`: `Y_00`.
 const Y00: f64 = 0.282_094_791_773_878_14;
 const SQRT2: f64 = core::f64::consts::SQRT_2;
+/// `sqrt(3)`: `q_1^0 / (z q_0^0)`.
+const SQRT3: f64 = 1.732_050_807_568_877_2;
 
 /// Writes `Y_lm(dir)` for `l = 0..=degree` into `out[index(l, m)]`.
 ///
@@ -97,51 +99,217 @@ const SQRT2: f64 = core::f64::consts::SQRT_2;
 /// count; `degree` above [`MAX_DEGREE`] is clamped to it.
 pub fn evaluate<T: Real>(degree: usize, dir: &Vector3<T>, out: &mut [T]) -> usize {
     let degree = degree.min(MAX_DEGREE);
-    let (x, y, z) = (dir.x, dir.y, dir.z);
-    let sqrt2 = T::of_f64(SQRT2);
-    // (C_m, S_m) = Re, Im of (x + iy)^m; q_mm is the diagonal q_m^m.
-    let (mut c, mut s) = (T::one(), T::zero());
-    let mut q_mm = T::of_f64(Y00);
-    for m in 0..=degree {
-        if m > 0 {
-            let (c_prev, s_prev) = (c, s);
-            c = x * c_prev - y * s_prev;
-            s = x * s_prev + y * c_prev;
-            q_mm *= T::of_f64(TABLES.diag.get(m).copied().unwrap_or(0.0));
-        }
-        let sub = T::of_f64(TABLES.sub.get(m).copied().unwrap_or(0.0));
-        let (mut q_prev2, mut q_prev) = (T::zero(), q_mm);
-        for l in m..=degree {
-            let q = if l == m {
-                q_mm
-            } else if l == m + 1 {
-                sub * z * q_mm
-            } else {
-                let i = index(l, m as isize);
-                let a = T::of_f64(TABLES.a.get(i).copied().unwrap_or(0.0));
-                let b = T::of_f64(TABLES.b.get(i).copied().unwrap_or(0.0));
-                a * (z * q_prev - b * q_prev2)
-            };
-            if l > m {
-                q_prev2 = q_prev;
-                q_prev = q;
-            }
-            if m == 0 {
-                if let Some(o) = out.get_mut(index(l, 0)) {
-                    *o = q;
-                }
-            } else {
-                let w = sqrt2 * q;
-                if let Some(o) = out.get_mut(index(l, m as isize)) {
-                    *o = w * c;
-                }
-                if let Some(o) = out.get_mut(index(l, -(m as isize))) {
-                    *o = w * s;
-                }
-            }
+    let count = coeff_count(degree).min(out.len());
+    if count == coeff_count(degree) {
+        if let Some(full) = out.get_mut(..count) {
+            evaluate_full(degree, dir, full);
+            return count;
         }
     }
-    coeff_count(degree).min(out.len())
+    // Short output: evaluate into scratch, copy the prefix that fits.
+    let mut scratch = [T::zero(); MAX_COEFFS];
+    evaluate_full(degree, dir, scratch.get_mut(..coeff_count(degree)).unwrap_or(&mut []));
+    for (o, s) in out.iter_mut().zip(scratch.iter()) {
+        *o = *s;
+    }
+    count
+}
+
+/// The recurrence; `out.len()` is exactly `coeff_count(degree)`.
+#[inline(always)]
+fn evaluate_full<T: Real>(degree: usize, dir: &Vector3<T>, out: &mut [T]) {
+    let (x, y, z) = (dir.x, dir.y, dir.z);
+    let sqrt2 = T::of_f64(SQRT2);
+    let table = |t: &[f64; MAX_COEFFS], i: usize| T::of_f64(t.get(i).copied().unwrap_or(0.0));
+    let mut put = |i: usize, v: T| {
+        if let Some(o) = out.get_mut(i) {
+            *o = v;
+        }
+    };
+    // m = 0: zonal harmonics, Y_l0 = q_l^0.
+    let mut q_mm = T::of_f64(Y00);
+    let (mut q2, mut q1) = (T::zero(), q_mm);
+    put(0, q_mm);
+    for l in 1..=degree {
+        let q = if l == 1 {
+            T::of_f64(SQRT3) * z * q_mm
+        } else {
+            let i = index(l, 0);
+            table(&TABLES.a, i) * (z * q1 - table(&TABLES.b, i) * q2)
+        };
+        put(index(l, 0), q);
+        q2 = q1;
+        q1 = q;
+    }
+    // m > 0: (C_m, S_m) = (x + iy)^m carry the longitude.
+    let (mut c, mut s) = (T::one(), T::zero());
+    for m in 1..=degree {
+        let (c_prev, s_prev) = (c, s);
+        c = x * c_prev - y * s_prev;
+        s = x * s_prev + y * c_prev;
+        q_mm *= T::of_f64(TABLES.diag.get(m).copied().unwrap_or(0.0));
+        let (cm, sm) = (sqrt2 * c, sqrt2 * s);
+        let base = m * m + m; // index(m, 0)
+        put(base + m, q_mm * cm);
+        put(base - m, q_mm * sm);
+        if m == degree {
+            break;
+        }
+        let mut q_prev2 = q_mm;
+        let mut q_prev = T::of_f64(TABLES.sub.get(m).copied().unwrap_or(0.0)) * z * q_mm;
+        let row = index(m + 1, 0);
+        put(row + m, q_prev * cm);
+        put(row - m, q_prev * sm);
+        for l in m + 2..=degree {
+            let i = index(l, m as isize);
+            let q = table(&TABLES.a, i) * (z * q_prev - table(&TABLES.b, i) * q_prev2);
+            let centre = l * l + l;
+            put(centre + m, q * cm);
+            put(centre - m, q * sm);
+            q_prev2 = q_prev;
+            q_prev = q;
+        }
+    }
+}
+
+/// Position of `Y_lm` in the *walk order* of degree `degree`: the order in
+/// which the recurrence produces values (m = 0 for l = 0..=N, then for each
+/// m >= 1 and l = m..=N the pair `Y_lm`, `Y_l,-m`). Coefficient storage
+/// uses this order so that evaluation streams through it (see
+/// [`accumulate`]). `None` when `|m| > l` or `l > degree`.
+pub const fn walk_position(l: usize, m: isize, degree: usize) -> Option<usize> {
+    let am = m.unsigned_abs();
+    if am > l || l > degree || degree > MAX_DEGREE {
+        return None;
+    }
+    if am == 0 {
+        return Some(l);
+    }
+    let n1 = degree + 1;
+    let base = n1 + 2 * (am - 1) * n1 - (am - 1) * am;
+    Some(base + 2 * (l - am) + if m < 0 { 1 } else { 0 })
+}
+
+/// `(l, m)` of the standard index `k = l*l + l + m`.
+pub const fn degree_order(k: usize) -> (usize, isize) {
+    let mut l = 0;
+    while (l + 1) * (l + 1) <= k {
+        l += 1;
+    }
+    (l, k as isize - (l * l + l) as isize)
+}
+
+/// Start of each order m's run of `(a_lm, b_lm)`, `l = m+2..=MAX_DEGREE`,
+/// in [`WALK_AB`].
+#[allow(clippy::indexing_slicing)]
+const WALK_START: [usize; MAX_DEGREE + 2] = {
+    let mut s = [0usize; MAX_DEGREE + 2];
+    let mut m = 0;
+    while m <= MAX_DEGREE {
+        let run = if MAX_DEGREE >= m + 2 { MAX_DEGREE - m - 1 } else { 0 };
+        s[m + 1] = s[m] + run;
+        m += 1;
+    }
+    s
+};
+
+/// `(a_lm, b_lm)` in walk order (m-major, then l ascending from m+2).
+#[allow(clippy::indexing_slicing)]
+const WALK_AB: [(f64, f64); MAX_COEFFS] = {
+    let mut t = [(0.0, 0.0); MAX_COEFFS];
+    let mut m = 0;
+    while m <= MAX_DEGREE {
+        let mut l = m + 2;
+        while l <= MAX_DEGREE {
+            let i = index(l, m as isize);
+            t[WALK_START[m] + l - m - 2] = (TABLES.a[i], TABLES.b[i]);
+            l += 1;
+        }
+        m += 1;
+    }
+    t
+};
+
+/// Σ_k rows[k] · Y_k(dir), with `rows` in the walk order of `degree`
+/// ([`walk_position`]): the weighted sums of eqs. (7)-(8), fused with the
+/// SH recurrence so that no intermediate buffer is written. `dir` must be
+/// unit length; rows beyond `rows.len()` count as zero.
+#[inline]
+pub fn accumulate<T: Real, const W: usize>(degree: usize, dir: &Vector3<T>, rows: &[[T; W]]) -> [T; W] {
+    let mut acc = [T::zero(); W];
+    let mut rows = rows.iter();
+    walk(degree, dir, |y| {
+        if let Some(row) = rows.next() {
+            for (a, &w) in acc.iter_mut().zip(row) {
+                *a += w * y;
+            }
+        }
+    });
+    acc
+}
+
+/// Writes `Y_lm(dir)` in walk order into `out`; returns the count written.
+pub fn evaluate_walk<T: Real>(degree: usize, dir: &Vector3<T>, out: &mut [T]) -> usize {
+    let mut slots = out.iter_mut();
+    let mut written = 0;
+    walk(degree, dir, |y| {
+        if let Some(o) = slots.next() {
+            *o = y;
+            written += 1;
+        }
+    });
+    written
+}
+
+/// Calls `emit` with every `Y_lm(dir)`, `l <= degree`, in walk order.
+#[inline(always)]
+fn walk<T: Real>(degree: usize, dir: &Vector3<T>, mut emit: impl FnMut(T)) {
+    let degree = degree.min(MAX_DEGREE);
+    let (x, y, z) = (dir.x, dir.y, dir.z);
+    let ab = |m: usize| {
+        let start = WALK_START.get(m).copied().unwrap_or(0);
+        let len = degree.saturating_sub(m + 1);
+        WALK_AB.get(start..start + len).unwrap_or(&[])
+    };
+    // m = 0: zonal harmonics.
+    let mut q_mm = T::of_f64(Y00);
+    emit(q_mm);
+    if degree >= 1 {
+        let (mut q2, mut q1) = (q_mm, T::of_f64(SQRT3) * z * q_mm);
+        emit(q1);
+        for &(a, b) in ab(0) {
+            let q = T::of_f64(a) * (z * q1 - T::of_f64(b) * q2);
+            emit(q);
+            q2 = q1;
+            q1 = q;
+        }
+    }
+    // m >= 1: (C_m, S_m) = (x + iy)^m carry the longitude.
+    let sqrt2 = T::of_f64(SQRT2);
+    let (mut c, mut s) = (T::one(), T::zero());
+    for m in 1..=degree {
+        let (c_prev, s_prev) = (c, s);
+        c = x * c_prev - y * s_prev;
+        s = x * s_prev + y * c_prev;
+        q_mm *= T::of_f64(TABLES.diag.get(m).copied().unwrap_or(0.0));
+        let (cm, sm) = (sqrt2 * c, sqrt2 * s);
+        emit(q_mm * cm);
+        emit(q_mm * sm);
+        if m == degree {
+            break;
+        }
+        let mut q2 = q_mm;
+        let mut q1 = T::of_f64(TABLES.sub.get(m).copied().unwrap_or(0.0)) * z * q_mm;
+        emit(q1 * cm);
+        emit(q1 * sm);
+        for &(a, b) in ab(m) {
+            let q = T::of_f64(a) * (z * q1 - T::of_f64(b) * q2);
+            emit(q * cm);
+            emit(q * sm);
+            q2 = q1;
+            q1 = q;
+        }
+    }
 }
 
 #[cfg(test)]
@@ -159,6 +327,40 @@ mod tests {
             }
         }
         assert!((const_sqrt(2.0) - core::f64::consts::SQRT_2).abs() < 1e-15);
+    }
+
+    #[test]
+    fn walk_positions_are_a_permutation() {
+        for n in 0..=MAX_DEGREE {
+            let mut seen = [false; MAX_COEFFS];
+            for k in 0..coeff_count(n) {
+                let (l, m) = degree_order(k);
+                assert_eq!(index(l, m), k);
+                let p = walk_position(l, m, n).unwrap();
+                assert!(p < coeff_count(n) && !seen[p]);
+                seen[p] = true;
+            }
+        }
+    }
+
+    #[test]
+    fn accumulate_equals_evaluate_then_sum() {
+        let e = Vector3::new(0.36, -0.48, 0.8);
+        for n in 0..=MAX_DEGREE {
+            let mut y = [0.0f64; MAX_COEFFS];
+            evaluate(n, &e, &mut y);
+            let mut rows = [[0.0f64; 2]; MAX_COEFFS];
+            let mut want = [0.0f64; 2];
+            for k in 0..coeff_count(n) {
+                let (l, m) = degree_order(k);
+                let w = [k as f64 + 1.0, (k * k) as f64 * 0.01 - 1.0];
+                rows[walk_position(l, m, n).unwrap()] = w;
+                want[0] += w[0] * y[k];
+                want[1] += w[1] * y[k];
+            }
+            let got = accumulate(n, &e, &rows[..coeff_count(n)]);
+            assert!((got[0] - want[0]).abs() < 1e-10 && (got[1] - want[1]).abs() < 1e-10, "n = {n}");
+        }
     }
 
     #[test]
