@@ -314,7 +314,7 @@ fn walk<T: Real>(degree: usize, dir: &Vector3<T>, mut emit: impl FnMut(T)) {
 
 #[cfg(test)]
 mod tests {
-    #![allow(clippy::indexing_slicing, clippy::unwrap_used)]
+    #![allow(clippy::indexing_slicing, clippy::unwrap_used, clippy::needless_range_loop)]
     use super::*;
 
     #[test]
