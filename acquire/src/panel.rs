@@ -77,14 +77,28 @@ pub fn normal_coefficient(sin_alpha: f64) -> f64 {
 impl PanelModel {
     /// A thin plate `lx` x `ly` (m) in the body x-y plane, normal +z.
     pub fn plate(lx: f64, ly: f64) -> Self {
-        Self { panels: vec![Panel { center: Vector3::zeros(), axis_u: Vector3::x(), axis_v: Vector3::y(), half_u: lx / 2.0, half_v: ly / 2.0 }] }
+        Self {
+            panels: vec![Panel {
+                center: Vector3::zeros(),
+                axis_u: Vector3::x(),
+                axis_v: Vector3::y(),
+                half_u: lx / 2.0,
+                half_v: ly / 2.0,
+            }],
+        }
     }
 
     /// A box-kite cell `lx` x `ly` x `lz` (m), open on its two y faces:
     /// four panels with normals ±x (`ly` x `lz`) and ±z (`lx` x `ly`).
     pub fn open_box(lx: f64, ly: f64, lz: f64) -> Self {
         let (x, y, z) = (Vector3::x(), Vector3::y(), Vector3::z());
-        let side = |c: Vector3<f64>, u: Vector3<f64>, v: Vector3<f64>, hu: f64, hv: f64| Panel { center: c, axis_u: u, axis_v: v, half_u: hu, half_v: hv };
+        let side = |c: Vector3<f64>, u: Vector3<f64>, v: Vector3<f64>, hu: f64, hv: f64| Panel {
+            center: c,
+            axis_u: u,
+            axis_v: v,
+            half_u: hu,
+            half_v: hv,
+        };
         let panels = vec![
             side(x * (lx / 2.0), y, z, ly / 2.0, lz / 2.0),
             side(-x * (lx / 2.0), z, y, lz / 2.0, ly / 2.0),
@@ -171,7 +185,10 @@ impl PanelModel {
                 atb += a * *ti;
             }
         }
-        let d = ata.cholesky().map(|c| c.solve(&atb)).unwrap_or_else(nalgebra::SVector::zeros);
+        let d = ata
+            .cholesky()
+            .map(|c| c.solve(&atb))
+            .unwrap_or_else(nalgebra::SVector::zeros);
         let m = Matrix3::new(d[0], d[3], d[4], d[3], d[1], d[5], d[4], d[5], d[2]);
         nearest_psd(&m)
     }

@@ -49,7 +49,10 @@ pub fn sphere_quadrature(pole: &Vector3<f64>) -> Vec<(Vector3<f64>, f64)> {
         let r = (1.0 - z * z).max(0.0).sqrt();
         for j in 0..LONGITUDES {
             let phi = (j as f64 + 0.5) * dphi;
-            out.push((to_pole * Vector3::new(r * phi.cos(), r * phi.sin(), z), w * dphi));
+            out.push((
+                to_pole * Vector3::new(r * phi.cos(), r * phi.sin(), z),
+                w * dphi,
+            ));
         }
     }
     out
@@ -71,7 +74,14 @@ pub fn project(
     for (e, w) in sphere_quadrature(&pole) {
         let (cf, ct) = f(&e);
         let basis = vector_basis(&e, &pole);
-        let proj = [cf.dot(&basis[0]), cf.dot(&basis[1]), cf.dot(&basis[2]), ct.dot(&basis[0]), ct.dot(&basis[1]), ct.dot(&basis[2])];
+        let proj = [
+            cf.dot(&basis[0]),
+            cf.dot(&basis[1]),
+            cf.dot(&basis[2]),
+            ct.dot(&basis[0]),
+            ct.dot(&basis[1]),
+            ct.dot(&basis[2]),
+        ];
         let count = sh::evaluate(degree as usize, &e, &mut y);
         for (row, yk) in sums.iter_mut().zip(&y[..count]) {
             for (s, p) in row.iter_mut().zip(&proj) {
@@ -94,7 +104,10 @@ mod tests {
 
     #[test]
     fn quadrature_weights_sum_to_sphere_area() {
-        let total: f64 = sphere_quadrature(&Vector3::new(0.3, 0.1, 0.9).normalize()).iter().map(|p| p.1).sum();
+        let total: f64 = sphere_quadrature(&Vector3::new(0.3, 0.1, 0.9).normalize())
+            .iter()
+            .map(|p| p.1)
+            .sum();
         assert!((total - 4.0 * std::f64::consts::PI).abs() < 1e-10);
     }
 

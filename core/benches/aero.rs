@@ -10,7 +10,8 @@ use omniad_core::{Coefficients, Environment, Real, RigidBody, State};
 /// A degree-8 model with every coefficient non-zero (values are arbitrary
 /// but deterministic: the cost does not depend on them).
 fn model<T: Real>() -> Coefficients<T> {
-    let mut m = Coefficients::zeros(8, Vector3::z(), T::of_f64(0.58)).unwrap_or_else(|_| unreachable());
+    let mut m =
+        Coefficients::zeros(8, Vector3::z(), T::of_f64(0.58)).unwrap_or_else(|_| unreachable());
     for k in 0..m.coeff_count() {
         for i in 0..3 {
             let v = T::of_f64(((k * 7 + i * 3) % 11) as f64 * 0.01 - 0.05);
@@ -31,15 +32,23 @@ fn bench_eval<T: Real>(c: &mut Criterion, name: &str) {
     let v = Vector3::new(T::of_f64(0.3), T::of_f64(-1.2), T::of_f64(-3.1));
     let w = Vector3::new(T::of_f64(0.5), T::of_f64(0.1), T::of_f64(-0.7));
     let rho = T::of_f64(1.2);
-    c.bench_function(name, |b| b.iter(|| m.wrench(black_box(&v), black_box(&w), rho)));
+    c.bench_function(name, |b| {
+        b.iter(|| m.wrench(black_box(&v), black_box(&w), rho))
+    });
 }
 
 fn bench_rk4(c: &mut Criterion) {
     let m = model::<f64>();
-    let body = RigidBody::new(0.048, Matrix3::from_diagonal(&Vector3::new(1.0e-3, 3.6e-4, 1.36e-3)))
-        .unwrap_or_else(|_| unreachable());
+    let body = RigidBody::new(
+        0.048,
+        Matrix3::from_diagonal(&Vector3::new(1.0e-3, 3.6e-4, 1.36e-3)),
+    )
+    .unwrap_or_else(|_| unreachable());
     let env = Environment::standard();
-    let forces = AirForces { model: &m, environment: env };
+    let forces = AirForces {
+        model: &m,
+        environment: env,
+    };
     let mut s = State::at_rest(Vector3::new(0.0, 0.0, 6.0));
     s.velocity = Vector3::new(0.2, 0.1, -2.0);
     s.angular_velocity = Vector3::new(1.0, 0.5, -0.3);

@@ -7,11 +7,15 @@ use omniad_core::Coefficients;
 use std::hint::black_box;
 
 fn main() {
-    let n: usize = std::env::args().nth(1).and_then(|s| s.parse().ok()).unwrap_or(100_000);
+    let n: usize = std::env::args()
+        .nth(1)
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(100_000);
     let mut m = Coefficients::<f32>::zeros(8, Vector3::z(), 0.58).expect("valid");
     for k in 0..m.coeff_count() {
         for i in 0..3 {
-            m.set_alpha(i, k, ((k * 7 + i * 3) % 11) as f32 * 0.01 - 0.05).unwrap();
+            m.set_alpha(i, k, ((k * 7 + i * 3) % 11) as f32 * 0.01 - 0.05)
+                .unwrap();
             m.set_beta(i, k, ((k * 5 + i) % 7) as f32 * 0.001).unwrap();
         }
     }

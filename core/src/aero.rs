@@ -18,7 +18,10 @@ pub struct Wrench<T: Real> {
 impl<T: Real> Wrench<T> {
     /// The zero wrench.
     pub fn zero() -> Self {
-        Self { force: Vector3::zeros(), torque: Vector3::zeros() }
+        Self {
+            force: Vector3::zeros(),
+            torque: Vector3::zeros(),
+        }
     }
 }
 

@@ -38,7 +38,11 @@ pub fn vector_basis<T: Real>(e: &Vector3<T>, pole: &Vector3<T>) -> [Vector3<T>; 
     let raw = raw - pole * pole.dot(&raw);
     let e2 = raw - e * e.dot(&raw);
     let len2 = norm(&e2);
-    let e2 = if len2 > tiny { e2 / len2 } else { pole_fallback(pole) };
+    let e2 = if len2 > tiny {
+        e2 / len2
+    } else {
+        pole_fallback(pole)
+    };
     let e3 = e.cross(&e2);
     [*e, e2, e3]
 }

@@ -57,7 +57,10 @@ impl core::fmt::Display for ModelError {
             Self::BadPole => write!(f, "pole must be a non-zero vector"),
             Self::BadReferenceLength => write!(f, "reference length must be positive"),
             Self::DampingNotPositiveSemidefinite => {
-                write!(f, "damping tensor D is not symmetric positive semi-definite")
+                write!(
+                    f,
+                    "damping tensor D is not symmetric positive semi-definite"
+                )
             }
             Self::BadBody => write!(f, "mass must be positive and inertia positive definite"),
             Self::CapacityExceeded(field) => write!(f, "{field} exceeds its fixed capacity"),
@@ -214,7 +217,8 @@ impl<T: Real> Coefficients<T> {
     /// Sets the name; too long a name is an error (nothing is truncated).
     pub fn set_name(&mut self, name: &str) -> Result<(), ModelError> {
         let mut s = heapless::String::new();
-        s.push_str(name).map_err(|_| ModelError::CapacityExceeded("name"))?;
+        s.push_str(name)
+            .map_err(|_| ModelError::CapacityExceeded("name"))?;
         self.name = s;
         Ok(())
     }

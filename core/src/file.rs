@@ -86,7 +86,10 @@ impl core::fmt::Display for FileError {
         match self {
             Self::BadMagic => write!(f, "not an omniad coefficient file (bad magic bytes)"),
             Self::UnknownVersion(v) => {
-                write!(f, "unknown format version {v} (this build reads 1..={FORMAT_VERSION})")
+                write!(
+                    f,
+                    "unknown format version {v} (this build reads 1..={FORMAT_VERSION})"
+                )
             }
             Self::Truncated => write!(f, "file is truncated"),
             Self::CrcMismatch { stored, computed } => write!(
@@ -138,7 +141,10 @@ impl<'a> Reader<'a> {
         Ok(out)
     }
 
-    fn string<const N: usize>(&mut self, field: &'static str) -> Result<heapless::String<N>, FileError> {
+    fn string<const N: usize>(
+        &mut self,
+        field: &'static str,
+    ) -> Result<heapless::String<N>, FileError> {
         let s: &str = self.take(field)?;
         let mut out = heapless::String::new();
         out.push_str(s).map_err(|_| FileError::BadCount(field))?;
@@ -154,8 +160,13 @@ struct Writer<'a> {
 
 impl Writer<'_> {
     fn put<T: Serialize + ?Sized>(&mut self, v: &T) -> Result<(), FileError> {
-        let rest = self.buf.get_mut(self.at..).ok_or(FileError::BufferTooSmall)?;
-        let used = postcard::to_slice(v, rest).map_err(|_| FileError::BufferTooSmall)?.len();
+        let rest = self
+            .buf
+            .get_mut(self.at..)
+            .ok_or(FileError::BufferTooSmall)?;
+        let used = postcard::to_slice(v, rest)
+            .map_err(|_| FileError::BufferTooSmall)?
+            .len();
         self.at += used;
         Ok(())
     }
@@ -168,17 +179,22 @@ pub fn encode<T: Real>(model: &Coefficients<T>, buf: &mut [u8]) -> Result<usize,
     }
     let payload_len = {
         let payload = buf.get_mut(HEADER_LEN..).ok_or(FileError::BufferTooSmall)?;
-        let mut w = Writer { buf: payload, at: 0 };
+        let mut w = Writer {
+            buf: payload,
+            at: 0,
+        };
         write_payload(model, &mut w)?;
         w.at
     };
     let end = HEADER_LEN + payload_len;
     let header = buf.get_mut(..HEADER_LEN).ok_or(FileError::BufferTooSmall)?;
     let len32 = u32::try_from(payload_len).map_err(|_| FileError::BufferTooSmall)?;
-    for (dst, src) in header
-        .iter_mut()
-        .zip(MAGIC.iter().chain(&FORMAT_VERSION.to_le_bytes()).chain(&len32.to_le_bytes()))
-    {
+    for (dst, src) in header.iter_mut().zip(
+        MAGIC
+            .iter()
+            .chain(&FORMAT_VERSION.to_le_bytes())
+            .chain(&len32.to_le_bytes()),
+    ) {
         *dst = *src;
     }
     let crc = crc32(buf.get(..end).ok_or(FileError::BufferTooSmall)?);
@@ -197,7 +213,11 @@ fn write_payload<T: Real>(m: &Coefficients<T>, w: &mut Writer<'_>) -> Result<(),
     for set in 0..6 {
         w.put(&(count as u16))?;
         for k in 0..count {
-            let v = if set < 3 { m.alpha(set, k) } else { m.beta(set - 3, k) };
+            let v = if set < 3 {
+                m.alpha(set, k)
+            } else {
+                m.beta(set - 3, k)
+            };
             w.put(&v.map(f).unwrap_or(0.0))?;
         }
     }
@@ -232,11 +252,13 @@ fn write_payload<T: Real>(m: &Coefficients<T>, w: &mut Writer<'_>) -> Result<(),
 
 /// Decodes a whole file. The CRC is checked before anything else is read.
 pub fn decode<T: Real>(bytes: &[u8]) -> Result<Coefficients<T>, FileError> {
-    let magic = bytes.get(..8).ok_or(if bytes.len() < 8 && MAGIC.starts_with(bytes) {
-        FileError::Truncated
-    } else {
-        FileError::BadMagic
-    })?;
+    let magic = bytes
+        .get(..8)
+        .ok_or(if bytes.len() < 8 && MAGIC.starts_with(bytes) {
+            FileError::Truncated
+        } else {
+            FileError::BadMagic
+        })?;
     if magic != MAGIC {
         return Err(FileError::BadMagic);
     }
@@ -245,7 +267,9 @@ pub fn decode<T: Real>(bytes: &[u8]) -> Result<Coefficients<T>, FileError> {
         return Err(FileError::UnknownVersion(version));
     }
     let payload_len = u32::from_le_bytes(read_array(bytes, 10)?) as usize;
-    let end = HEADER_LEN.checked_add(payload_len).ok_or(FileError::Truncated)?;
+    let end = HEADER_LEN
+        .checked_add(payload_len)
+        .ok_or(FileError::Truncated)?;
     let stored = u32::from_le_bytes(read_array(bytes, end)?);
     let computed = crc32(bytes.get(..end).ok_or(FileError::Truncated)?);
     if stored != computed {
@@ -264,7 +288,9 @@ pub fn decode<T: Real>(bytes: &[u8]) -> Result<Coefficients<T>, FileError> {
 }
 
 fn read_array<const N: usize>(bytes: &[u8], at: usize) -> Result<[u8; N], FileError> {
-    let s = bytes.get(at..at.checked_add(N).ok_or(FileError::Truncated)?).ok_or(FileError::Truncated)?;
+    let s = bytes
+        .get(at..at.checked_add(N).ok_or(FileError::Truncated)?)
+        .ok_or(FileError::Truncated)?;
     let mut out = [0u8; N];
     out.copy_from_slice(s);
     Ok(out)
@@ -340,7 +366,9 @@ fn read_provenance(r: &mut Reader<'_>) -> Result<Provenance, FileError> {
     }
     for _ in 0..n {
         let v: u16 = r.take("provenance.coverage")?;
-        p.coverage.push(v).map_err(|_| FileError::BadCount("provenance.coverage"))?;
+        p.coverage
+            .push(v)
+            .map_err(|_| FileError::BadCount("provenance.coverage"))?;
     }
     Ok(p)
 }
@@ -365,7 +393,9 @@ fn read_extensions(
         }
         for _ in 0..len {
             let b: u8 = r.take("extension.data")?;
-            e.data.push(b).map_err(|_| FileError::BadCount("extension.data"))?;
+            e.data
+                .push(b)
+                .map_err(|_| FileError::BadCount("extension.data"))?;
         }
         out.push(e).map_err(|_| FileError::BadCount("extensions"))?;
     }

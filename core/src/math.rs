@@ -130,7 +130,10 @@ pub fn six_from_symmetric<T: Real>(m: &Matrix3<T>) -> [T; 6] {
 /// (with a tolerance relative to the largest entry).
 pub fn is_positive_semidefinite(s: [f64; 6]) -> bool {
     let [xx, yy, zz, xy, xz, yz] = s;
-    let scale = s.iter().fold(0.0f64, |a, b| a.max(b.abs())).max(f64::MIN_POSITIVE);
+    let scale = s
+        .iter()
+        .fold(0.0f64, |a, b| a.max(b.abs()))
+        .max(f64::MIN_POSITIVE);
     let tol = 1e-9 * scale;
     let tol2 = tol * scale;
     let tol3 = tol2 * scale;

@@ -33,12 +33,19 @@ impl<T: Real> RigidBody<T> {
             return Err(ModelError::BadBody);
         }
         let inverse_inertia = sym.try_inverse().ok_or(ModelError::BadBody)?;
-        Ok(Self { mass, inertia: sym, inverse_inertia })
+        Ok(Self {
+            mass,
+            inertia: sym,
+            inverse_inertia,
+        })
     }
 
     /// From stored mass properties.
     pub fn from_properties(p: &MassProperties) -> Result<Self, ModelError> {
-        Self::new(T::of_f64(p.mass), symmetric_from_six(p.inertia.map(T::of_f64)))
+        Self::new(
+            T::of_f64(p.mass),
+            symmetric_from_six(p.inertia.map(T::of_f64)),
+        )
     }
 }
 
@@ -64,7 +71,10 @@ impl<T: Real> Environment<T> {
     }
     /// No air: gravity only.
     pub fn vacuum() -> Self {
-        Self { air_density: T::zero(), ..Self::standard() }
+        Self {
+            air_density: T::zero(),
+            ..Self::standard()
+        }
     }
 }
 
@@ -102,19 +112,23 @@ impl<T: Real> State<T> {
 
     /// Velocity relative to the air in the body frame, `V = Rᵀ(v - v_wind)`.
     pub fn air_velocity_body(&self, wind: &Vector3<T>) -> Vector3<T> {
-        self.orientation.inverse_transform_vector(&(self.velocity - wind))
+        self.orientation
+            .inverse_transform_vector(&(self.velocity - wind))
     }
 
     /// Kinetic energy, J.
     pub fn kinetic_energy(&self, body: &RigidBody<T>) -> T {
         let h = T::of_f64(0.5);
         h * body.mass * self.velocity.dot(&self.velocity)
-            + h * self.angular_velocity.dot(&(body.inertia * self.angular_velocity))
+            + h * self
+                .angular_velocity
+                .dot(&(body.inertia * self.angular_velocity))
     }
 
     /// Angular momentum about the centre of mass, world frame, kg m²/s.
     pub fn angular_momentum_world(&self, body: &RigidBody<T>) -> Vector3<T> {
-        self.orientation.transform_vector(&(body.inertia * self.angular_velocity))
+        self.orientation
+            .transform_vector(&(body.inertia * self.angular_velocity))
     }
 }
 
@@ -161,7 +175,8 @@ pub struct AirForces<'a, T: Real> {
 impl<T: Real> Forces<T> for AirForces<'_, T> {
     fn wrench(&self, _t: T, state: &State<T>) -> Wrench<T> {
         let v = state.air_velocity_body(&self.environment.wind);
-        self.model.wrench(&v, &state.angular_velocity, self.environment.air_density)
+        self.model
+            .wrench(&v, &state.angular_velocity, self.environment.air_density)
     }
 }
 

@@ -70,7 +70,11 @@ const TABLES: Tables = {
     let mut m = 0;
     while m <= MAX_DEGREE {
         let mf = m as f64;
-        t.diag[m] = if m == 0 { 0.0 } else { const_sqrt((2.0 * mf + 1.0) / (2.0 * mf)) };
+        t.diag[m] = if m == 0 {
+            0.0
+        } else {
+            const_sqrt((2.0 * mf + 1.0) / (2.0 * mf))
+        };
         t.sub[m] = const_sqrt(2.0 * mf + 3.0);
         let mut l = m + 2;
         while l <= MAX_DEGREE {
@@ -108,7 +112,11 @@ pub fn evaluate<T: Real>(degree: usize, dir: &Vector3<T>, out: &mut [T]) -> usiz
     }
     // Short output: evaluate into scratch, copy the prefix that fits.
     let mut scratch = [T::zero(); MAX_COEFFS];
-    evaluate_full(degree, dir, scratch.get_mut(..coeff_count(degree)).unwrap_or(&mut []));
+    evaluate_full(
+        degree,
+        dir,
+        scratch.get_mut(..coeff_count(degree)).unwrap_or(&mut []),
+    );
     for (o, s) in out.iter_mut().zip(scratch.iter()) {
         *o = *s;
     }
@@ -206,7 +214,11 @@ const WALK_START: [usize; MAX_DEGREE + 2] = {
     let mut s = [0usize; MAX_DEGREE + 2];
     let mut m = 0;
     while m <= MAX_DEGREE {
-        let run = if MAX_DEGREE >= m + 2 { MAX_DEGREE - m - 1 } else { 0 };
+        let run = if MAX_DEGREE >= m + 2 {
+            MAX_DEGREE - m - 1
+        } else {
+            0
+        };
         s[m + 1] = s[m] + run;
         m += 1;
     }
@@ -235,7 +247,11 @@ const WALK_AB: [(f64, f64); MAX_COEFFS] = {
 /// SH recurrence so that no intermediate buffer is written. `dir` must be
 /// unit length; rows beyond `rows.len()` count as zero.
 #[inline]
-pub fn accumulate<T: Real, const W: usize>(degree: usize, dir: &Vector3<T>, rows: &[[T; W]]) -> [T; W] {
+pub fn accumulate<T: Real, const W: usize>(
+    degree: usize,
+    dir: &Vector3<T>,
+    rows: &[[T; W]],
+) -> [T; W] {
     let mut acc = [T::zero(); W];
     let mut rows = rows.iter();
     walk(degree, dir, |y| {
@@ -314,7 +330,11 @@ fn walk<T: Real>(degree: usize, dir: &Vector3<T>, mut emit: impl FnMut(T)) {
 
 #[cfg(test)]
 mod tests {
-    #![allow(clippy::indexing_slicing, clippy::unwrap_used, clippy::needless_range_loop)]
+    #![allow(
+        clippy::indexing_slicing,
+        clippy::unwrap_used,
+        clippy::needless_range_loop
+    )]
     use super::*;
 
     #[test]
@@ -359,7 +379,10 @@ mod tests {
                 want[1] += w[1] * y[k];
             }
             let got = accumulate(n, &e, &rows[..coeff_count(n)]);
-            assert!((got[0] - want[0]).abs() < 1e-10 && (got[1] - want[1]).abs() < 1e-10, "n = {n}");
+            assert!(
+                (got[0] - want[0]).abs() < 1e-10 && (got[1] - want[1]).abs() < 1e-10,
+                "n = {n}"
+            );
         }
     }
 

@@ -13,7 +13,12 @@ fn hand_model<T: omniad_core::Real>() -> Coefficients<T> {
     m.set_alpha(0, 0, c(-s)).unwrap();
     m.set_alpha(1, 0, c(0.5 * s)).unwrap();
     m.set_beta(2, 0, c(0.2 * s)).unwrap();
-    m.set_damping(&Matrix3::from_diagonal(&Vector3::new(c(0.1), c(0.2), c(0.3)))).unwrap();
+    m.set_damping(&Matrix3::from_diagonal(&Vector3::new(
+        c(0.1),
+        c(0.2),
+        c(0.3),
+    )))
+    .unwrap();
     m
 }
 
@@ -23,12 +28,21 @@ fn hand_computed_force_and_torque() {
     // q = ½ρ|V|² = 2.4; F = q L² C_F = 0.6 (0, -0.5, 1).
     // T = q L³ C_T - ½ρ D|Ω|Ω L⁵ with Ω = (1,2,2), |Ω| = 3.
     let m = hand_model::<f64>();
-    let w = m.wrench(&Vector3::new(0.0, 0.0, -2.0), &Vector3::new(1.0, 2.0, 2.0), 1.2);
+    let w = m.wrench(
+        &Vector3::new(0.0, 0.0, -2.0),
+        &Vector3::new(1.0, 2.0, 2.0),
+        1.2,
+    );
     let f_want = Vector3::new(0.0, -0.3, 0.6);
-    let t_want = Vector3::new(-0.06, 0.0, 0.0) - Vector3::new(0.1, 0.4, 0.6) * (0.6 * 3.0 * 0.03125);
+    let t_want =
+        Vector3::new(-0.06, 0.0, 0.0) - Vector3::new(0.1, 0.4, 0.6) * (0.6 * 3.0 * 0.03125);
     assert!((w.force - f_want).norm() < 1e-14, "{:?}", w.force);
     assert!((w.torque - t_want).norm() < 1e-14, "{:?}", w.torque);
-    let w32 = hand_model::<f32>().wrench(&Vector3::new(0.0, 0.0, -2.0), &Vector3::new(1.0, 2.0, 2.0), 1.2);
+    let w32 = hand_model::<f32>().wrench(
+        &Vector3::new(0.0, 0.0, -2.0),
+        &Vector3::new(1.0, 2.0, 2.0),
+        1.2,
+    );
     assert!((w32.force.map(f64::from) - f_want).norm() < 1e-6);
     assert!((w32.torque.map(f64::from) - t_want).norm() < 1e-6);
 }

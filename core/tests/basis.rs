@@ -10,20 +10,44 @@ use omniad_core::basis::vector_basis;
 fn check(e: &Vector3<f64>, pole: &Vector3<f64>) {
     let [e1, e2, e3] = vector_basis(e, pole);
     for (i, v) in [e1, e2, e3].iter().enumerate() {
-        assert!(v.iter().all(|x| x.is_finite()), "NaN in E{} at {e:?}", i + 1);
-        assert!((v.norm() - 1.0).abs() < 1e-12, "|E{}| = {} at {e:?}", i + 1, v.norm());
+        assert!(
+            v.iter().all(|x| x.is_finite()),
+            "NaN in E{} at {e:?}",
+            i + 1
+        );
+        assert!(
+            (v.norm() - 1.0).abs() < 1e-12,
+            "|E{}| = {} at {e:?}",
+            i + 1,
+            v.norm()
+        );
     }
-    assert!(e1.dot(&e2).abs() < 1e-12 && e1.dot(&e3).abs() < 1e-12 && e2.dot(&e3).abs() < 1e-12, "not orthogonal at {e:?}");
-    assert!((e1.cross(&e2) - e3).norm() < 1e-12, "not right-handed at {e:?}");
+    assert!(
+        e1.dot(&e2).abs() < 1e-12 && e1.dot(&e3).abs() < 1e-12 && e2.dot(&e3).abs() < 1e-12,
+        "not orthogonal at {e:?}"
+    );
+    assert!(
+        (e1.cross(&e2) - e3).norm() < 1e-12,
+        "not right-handed at {e:?}"
+    );
     assert_eq!(e1, *e);
     // E2 is longitudinal: orthogonal to the pole.
-    assert!(e2.dot(pole).abs() < 1e-12, "E2 not orthogonal to Z at {e:?}");
+    assert!(
+        e2.dot(pole).abs() < 1e-12,
+        "E2 not orthogonal to Z at {e:?}"
+    );
 }
 
 #[test]
 fn orthonormal_and_right_handed_for_many_directions_and_poles() {
     let dirs = common::test_directions(2000);
-    for pole in [Vector3::z(), Vector3::x(), -Vector3::y(), Vector3::new(0.0, 0.6, 0.8), Vector3::new(1.0, 1.0, 1.0).normalize()] {
+    for pole in [
+        Vector3::z(),
+        Vector3::x(),
+        -Vector3::y(),
+        Vector3::new(0.0, 0.6, 0.8),
+        Vector3::new(1.0, 1.0, 1.0).normalize(),
+    ] {
         for e in &dirs {
             check(e, &pole);
         }
@@ -50,6 +74,8 @@ fn matches_the_paper_formula_away_from_the_poles() {
 fn f32_is_finite_at_the_poles() {
     for e in [Vector3::<f32>::z(), -Vector3::<f32>::z()] {
         let b = vector_basis(&e, &Vector3::z());
-        assert!(b.iter().all(|v| v.iter().all(|x| x.is_finite()) && (v.norm() - 1.0).abs() < 1e-6));
+        assert!(b
+            .iter()
+            .all(|v| v.iter().all(|x| x.is_finite()) && (v.norm() - 1.0).abs() < 1e-6));
     }
 }

@@ -53,13 +53,19 @@ fn golden_v1_decodes_to_the_generator_model_and_reencodes_identically() {
     assert_eq!(encoded(&decoded), GOLDEN_V1);
     // f32 readers get the same model rounded.
     let f32_model: Coefficients<f32> = decode(GOLDEN_V1).unwrap();
-    assert_eq!(f32_model.alpha(1, 7).unwrap(), m.alpha(1, 7).unwrap() as f32);
+    assert_eq!(
+        f32_model.alpha(1, 7).unwrap(),
+        m.alpha(1, 7).unwrap() as f32
+    );
 }
 
 #[test]
 fn every_truncation_is_an_error() {
     for len in 0..GOLDEN_V1.len() {
-        assert!(decode::<f64>(&GOLDEN_V1[..len]).is_err(), "prefix of {len} bytes decoded");
+        assert!(
+            decode::<f64>(&GOLDEN_V1[..len]).is_err(),
+            "prefix of {len} bytes decoded"
+        );
     }
 }
 
@@ -70,7 +76,10 @@ fn every_single_byte_corruption_is_an_error() {
         let orig = bytes[i];
         for flip in [0x01u8, 0x80, 0xFF] {
             bytes[i] = orig ^ flip;
-            assert!(decode::<f64>(&bytes).is_err(), "corrupting byte {i} with {flip:#x} decoded");
+            assert!(
+                decode::<f64>(&bytes).is_err(),
+                "corrupting byte {i} with {flip:#x} decoded"
+            );
         }
         bytes[i] = orig;
     }
@@ -108,12 +117,18 @@ fn semantic_errors_survive_a_valid_crc() {
     let name_len = payload[0] as usize;
     let mut p = payload.to_vec();
     p[1 + name_len] = 13;
-    assert_eq!(decode::<f64>(&reframe(&p)), Err(FileError::Model(ModelError::DegreeTooHigh(13))));
+    assert_eq!(
+        decode::<f64>(&reframe(&p)),
+        Err(FileError::Model(ModelError::DegreeTooHigh(13)))
+    );
     // A NaN in the pole (first f64 after the degree).
     let mut p = payload.to_vec();
     let at = 2 + name_len;
     p[at..at + 8].copy_from_slice(&f64::NAN.to_le_bytes());
-    assert_eq!(decode::<f64>(&reframe(&p)), Err(FileError::Model(ModelError::NonFinite("pole"))));
+    assert_eq!(
+        decode::<f64>(&reframe(&p)),
+        Err(FileError::Model(ModelError::NonFinite("pole")))
+    );
     // Extra payload bytes.
     let mut p = payload.to_vec();
     p.push(0);
@@ -124,9 +139,15 @@ fn semantic_errors_survive_a_valid_crc() {
 fn invalid_damping_is_rejected_at_construction() {
     let mut m = Coefficients::<f64>::zeros(2, Vector3::z(), 1.0).unwrap();
     let indefinite = Matrix3::new(1.0, 0.0, 0.0, 0.0, -0.1, 0.0, 0.0, 0.0, 1.0);
-    assert_eq!(m.set_damping(&indefinite), Err(ModelError::DampingNotPositiveSemidefinite));
+    assert_eq!(
+        m.set_damping(&indefinite),
+        Err(ModelError::DampingNotPositiveSemidefinite)
+    );
     assert_eq!(m.set_alpha(0, 9, 1.0), Err(ModelError::OutOfRange("alpha")));
-    assert_eq!(m.set_alpha(0, 0, f64::NAN), Err(ModelError::NonFinite("alpha")));
+    assert_eq!(
+        m.set_alpha(0, 0, f64::NAN),
+        Err(ModelError::NonFinite("alpha"))
+    );
     assert!(Coefficients::<f64>::zeros(13, Vector3::z(), 1.0).is_err());
     assert!(Coefficients::<f64>::zeros(2, Vector3::zeros(), 1.0).is_err());
 }

@@ -54,17 +54,36 @@ fn closed_forms_up_to_degree_3() {
             (2, 0, k(5f64.sqrt() / 4.0) * (3.0 * z * z - 1.0)),
             (2, 1, k(15f64.sqrt() / 2.0) * x * z),
             (2, 2, k(15f64.sqrt() / 4.0) * (x * x - y * y)),
-            (3, -3, k((35.0f64 / 2.0).sqrt() / 4.0) * y * (3.0 * x * x - y * y)),
+            (
+                3,
+                -3,
+                k((35.0f64 / 2.0).sqrt() / 4.0) * y * (3.0 * x * x - y * y),
+            ),
             (3, -2, k(105f64.sqrt() / 2.0) * x * y * z),
-            (3, -1, k((21.0f64 / 2.0).sqrt() / 4.0) * y * (5.0 * z * z - 1.0)),
+            (
+                3,
+                -1,
+                k((21.0f64 / 2.0).sqrt() / 4.0) * y * (5.0 * z * z - 1.0),
+            ),
             (3, 0, k(7f64.sqrt() / 4.0) * (5.0 * z * z * z - 3.0 * z)),
-            (3, 1, k((21.0f64 / 2.0).sqrt() / 4.0) * x * (5.0 * z * z - 1.0)),
+            (
+                3,
+                1,
+                k((21.0f64 / 2.0).sqrt() / 4.0) * x * (5.0 * z * z - 1.0),
+            ),
             (3, 2, k(105f64.sqrt() / 4.0) * (x * x - y * y) * z),
-            (3, 3, k((35.0f64 / 2.0).sqrt() / 4.0) * x * (x * x - 3.0 * y * y)),
+            (
+                3,
+                3,
+                k((35.0f64 / 2.0).sqrt() / 4.0) * x * (x * x - 3.0 * y * y),
+            ),
         ];
         for (l, m, want) in expected {
             let got = v[index(l, m)];
-            assert!((got - want).abs() < 1e-14, "Y_{l},{m}({e:?}) = {got}, want {want}");
+            assert!(
+                (got - want).abs() < 1e-14,
+                "Y_{l},{m}({e:?}) = {got}, want {want}"
+            );
         }
     }
 }
@@ -89,7 +108,9 @@ fn addition_theorem() {
         let (a, b) = (pair[0], pair[1]);
         let (ya, yb) = (all(&a), all(&b));
         for l in 0..=MAX_DEGREE {
-            let sum: f64 = (-(l as isize)..=l as isize).map(|m| ya[index(l, m)] * yb[index(l, m)]).sum();
+            let sum: f64 = (-(l as isize)..=l as isize)
+                .map(|m| ya[index(l, m)] * yb[index(l, m)])
+                .sum();
             let want = (2 * l + 1) as f64 / (4.0 * PI) * legendre(l, a.dot(&b).clamp(-1.0, 1.0));
             assert!((sum - want).abs() < 1e-12, "l = {l}: {sum} vs {want}");
         }

@@ -47,13 +47,16 @@ pub fn run(cmd: &CoeffsCommand) -> Result<()> {
 pub fn parse_direction(text: &str, line: usize) -> Result<Vector3<f64>> {
     let fields: Vec<&str> = text.split(',').map(str::trim).collect();
     if fields.len() != 3 {
-        bail!("stdin line {line}: expected 3 fields ex,ey,ez, found {}", fields.len());
+        bail!(
+            "stdin line {line}: expected 3 fields ex,ey,ez, found {}",
+            fields.len()
+        );
     }
     let mut v = [0.0; 3];
     for ((slot, field), name) in v.iter_mut().zip(&fields).zip(["ex", "ey", "ez"]) {
-        *slot = field
-            .parse::<f64>()
-            .map_err(|_| anyhow::anyhow!("stdin line {line}: field {name}: {field:?} is not a number"))?;
+        *slot = field.parse::<f64>().map_err(|_| {
+            anyhow::anyhow!("stdin line {line}: field {name}: {field:?} is not a number")
+        })?;
         if !slot.is_finite() {
             bail!("stdin line {line}: field {name} is not finite");
         }
@@ -61,7 +64,12 @@ pub fn parse_direction(text: &str, line: usize) -> Result<Vector3<f64>> {
     let e = Vector3::from(v);
     let n = e.norm();
     if !(n > 0.0) || !n.is_finite() {
-        bail!("stdin line {line}: direction ({}, {}, {}) has zero or infinite length", v[0], v[1], v[2]);
+        bail!(
+            "stdin line {line}: direction ({}, {}, {}) has zero or infinite length",
+            v[0],
+            v[1],
+            v[2]
+        );
     }
     Ok(e / n)
 }

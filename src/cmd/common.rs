@@ -14,7 +14,10 @@ pub fn read_coefficients(path: &Path) -> Result<Coefficients<f64>> {
 /// Encodes and writes a `.omni` file.
 pub fn write_coefficients(path: &Path, model: &Coefficients<f64>) -> Result<()> {
     let mut buf = vec![0u8; file::MAX_FILE_SIZE];
-    let n = file::encode(model, &mut buf).map_err(|e| anyhow::anyhow!("encoding {}: {e}", path.display()))?;
-    let bytes = buf.get(..n).context("encoder reported more bytes than its buffer")?;
+    let n = file::encode(model, &mut buf)
+        .map_err(|e| anyhow::anyhow!("encoding {}: {e}", path.display()))?;
+    let bytes = buf
+        .get(..n)
+        .context("encoder reported more bytes than its buffer")?;
     std::fs::write(path, bytes).with_context(|| format!("cannot write {}", path.display()))
 }

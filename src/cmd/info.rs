@@ -33,11 +33,19 @@ pub fn run(args: &InfoArgs) -> Result<()> {
 
 /// Drag coefficient `-C_F(E)·E` along the six body axes.
 fn axis_drag(m: &Coefficients<f64>) -> Vec<(String, f64)> {
-    let axes = [("+x", [1., 0., 0.]), ("-x", [-1., 0., 0.]), ("+y", [0., 1., 0.]), ("-y", [0., -1., 0.]), ("+z", [0., 0., 1.]), ("-z", [0., 0., -1.])];
+    let axes = [
+        ("+x", [1., 0., 0.]),
+        ("-x", [-1., 0., 0.]),
+        ("+y", [0., 1., 0.]),
+        ("-y", [0., -1., 0.]),
+        ("+z", [0., 0., 1.]),
+        ("-z", [0., 0., -1.]),
+    ];
     axes.iter()
         .filter_map(|(n, a)| {
             let e = nalgebra::Vector3::from(*a);
-            m.at_direction(&e).map(|c| (n.to_string(), -c.force.dot(&e)))
+            m.at_direction(&e)
+                .map(|c| (n.to_string(), -c.force.dot(&e)))
         })
         .collect()
 }
@@ -86,14 +94,24 @@ fn summary(m: &Coefficients<f64>) -> serde_json::Value {
 
 fn print_text(m: &Coefficients<f64>, s: &serde_json::Value) {
     println!("name:              {}", m.name());
-    println!("degree N:          {} ({} SH coefficients per component)", m.degree(), m.coeff_count());
+    println!(
+        "degree N:          {} ({} SH coefficients per component)",
+        m.degree(),
+        m.coeff_count()
+    );
     let z = m.pole();
     println!("pole Z (body):     [{:.4}, {:.4}, {:.4}]", z.x, z.y, z.z);
     println!("reference length:  {:.4} m", m.reference_length());
     let d = six_from_symmetric(&m.damping());
-    println!("damping D:         xx {:.4e} yy {:.4e} zz {:.4e} xy {:.4e} xz {:.4e} yz {:.4e}", d[0], d[1], d[2], d[3], d[4], d[5]);
+    println!(
+        "damping D:         xx {:.4e} yy {:.4e} zz {:.4e} xy {:.4e} xz {:.4e} yz {:.4e}",
+        d[0], d[1], d[2], d[3], d[4], d[5]
+    );
     match &m.body {
-        Some(b) => println!("mass:              {:.4} kg, inertia diag [{:.3e}, {:.3e}, {:.3e}] kg m^2", b.mass, b.inertia[0], b.inertia[1], b.inertia[2]),
+        Some(b) => println!(
+            "mass:              {:.4} kg, inertia diag [{:.3e}, {:.3e}, {:.3e}] kg m^2",
+            b.mass, b.inertia[0], b.inertia[1], b.inertia[2]
+        ),
         None => println!("mass:              (not recorded)"),
     }
     println!("drag -C_F(E)·E along body axes:");
@@ -101,8 +119,15 @@ fn print_text(m: &Coefficients<f64>, s: &serde_json::Value) {
         println!("  E = {axis}: {cd:8.4}");
     }
     let p = &m.provenance;
-    println!("provenance:        method {:?}, source {:?}", p.method.as_str(), p.source.as_str());
-    println!("frames:            {} used, {} dropped", p.frames_used, p.frames_dropped);
+    println!(
+        "provenance:        method {:?}, source {:?}",
+        p.method.as_str(),
+        p.source.as_str()
+    );
+    println!(
+        "frames:            {} used, {} dropped",
+        p.frames_used, p.frames_dropped
+    );
     if !p.force_residuals.is_empty() {
         println!("force residuals:   {:?}", p.force_residuals.as_slice());
         println!("torque residuals:  {:?}", p.torque_residuals.as_slice());

@@ -64,7 +64,9 @@ fn parse_numbers<const N: usize>(s: &str) -> Result<[f64; N], String> {
     }
     let mut out = [0.0; N];
     for (o, p) in out.iter_mut().zip(parts) {
-        *o = p.parse::<f64>().map_err(|_| format!("{p:?} is not a number"))?;
+        *o = p
+            .parse::<f64>()
+            .map_err(|_| format!("{p:?} is not a number"))?;
         if !o.is_finite() {
             return Err(format!("{p:?} is not finite"));
         }
@@ -98,9 +100,21 @@ pub fn run(a: &SimulateArgs) -> Result<()> {
     }
     let model = read_coefficients(&a.file)?;
     let body = body_of(&model, a)?;
-    let env = Environment { gravity: Vector3::new(0.0, 0.0, -9.81), air_density: a.air_density, wind: a.wind };
-    let forces = AirForces { model: &model, environment: env };
-    let mut s = State { position: a.position, orientation: a.orientation, velocity: a.velocity, angular_velocity: a.angular_velocity };
+    let env = Environment {
+        gravity: Vector3::new(0.0, 0.0, -9.81),
+        air_density: a.air_density,
+        wind: a.wind,
+    };
+    let forces = AirForces {
+        model: &model,
+        environment: env,
+    };
+    let mut s = State {
+        position: a.position,
+        orientation: a.orientation,
+        velocity: a.velocity,
+        angular_velocity: a.angular_velocity,
+    };
     let steps = (a.duration / a.dt).round() as u64;
     let every = ((1.0 / a.rate) / a.dt).round().max(1.0) as u64;
     let mut csv = String::from("t,x,y,z,qw,qx,qy,qz,vx,vy,vz,wx,wy,wz\n");
@@ -137,22 +151,32 @@ pub fn run(a: &SimulateArgs) -> Result<()> {
         println!("{}", serde_json::to_string_pretty(&summary)?);
     } else if !a.csv {
         println!("simulated {t:.3} s in {step} RK4 steps of {} s", a.dt);
-        println!("final position  [{:.3}, {:.3}, {:.3}] m", s.position.x, s.position.y, s.position.z);
-        println!("final velocity  [{:.3}, {:.3}, {:.3}] m/s", s.velocity.x, s.velocity.y, s.velocity.z);
+        println!(
+            "final position  [{:.3}, {:.3}, {:.3}] m",
+            s.position.x, s.position.y, s.position.z
+        );
+        println!(
+            "final velocity  [{:.3}, {:.3}, {:.3}] m/s",
+            s.velocity.x, s.velocity.y, s.velocity.z
+        );
         println!("(use --csv for the trajectory, --json for this summary)");
     }
     Ok(())
 }
 
 fn body_of(model: &omniad_core::Coefficients<f64>, a: &SimulateArgs) -> Result<RigidBody<f64>> {
-    let props = model.body.context("the coefficient file records no mass properties")?;
-    let mut body = RigidBody::from_properties(&props).map_err(|e| anyhow::anyhow!("{}: {e}", a.file.display()))?;
+    let props = model
+        .body
+        .context("the coefficient file records no mass properties")?;
+    let mut body = RigidBody::from_properties(&props)
+        .map_err(|e| anyhow::anyhow!("{}: {e}", a.file.display()))?;
     if let Some(m) = a.mass {
         if !(m > 0.0 && m.is_finite()) {
             bail!("--mass must be positive");
         }
         let scale = m / body.mass;
-        body = RigidBody::new(m, body.inertia * scale).map_err(|e| anyhow::anyhow!("--mass: {e}"))?;
+        body =
+            RigidBody::new(m, body.inertia * scale).map_err(|e| anyhow::anyhow!("--mass: {e}"))?;
     }
     Ok(body)
 }

@@ -32,7 +32,10 @@ fn primitive_sensitivity<T: Real>(
         return (a, b);
     }
     let zero = Vector3::zeros();
-    for (j, e) in [Vector3::x(), Vector3::y(), Vector3::z()].iter().enumerate() {
+    for (j, e) in [Vector3::x(), Vector3::y(), Vector3::z()]
+        .iter()
+        .enumerate()
+    {
         let plus = coefficients.wrench(&(v + e * h), &zero, air_density);
         let minus = coefficients.wrench(&(v - e * h), &zero, air_density);
         let two_h = h + h;
@@ -93,7 +96,10 @@ pub fn jacobian_numeric<T: Real>(
     step: T,
 ) -> Result<Matrix3<T>, KiteError> {
     let mut j = Matrix3::zeros();
-    for (col, e) in [Vector3::x(), Vector3::y(), Vector3::z()].iter().enumerate() {
+    for (col, e) in [Vector3::x(), Vector3::y(), Vector3::z()]
+        .iter()
+        .enumerate()
+    {
         let turn = |s: T| orientation * UnitQuaternion::from_scaled_axis(e * s);
         let plus = kite_torque(kite, conditions, &turn(step), attachment)?;
         let minus = kite_torque(kite, conditions, &turn(-step), attachment)?;
@@ -138,7 +144,8 @@ pub fn symmetric_eigen<T: Real>(m: &Matrix3<T>) -> Result<[(T, Vector3<T>); 3], 
         return Err(KiteError::NonFinite("matrix"));
     }
     let sym = (m + m.transpose()) * lit::<T>(0.5);
-    let eig = SymmetricEigen::try_new(sym, T::default_epsilon(), 200).ok_or(KiteError::EigenFailed)?;
+    let eig =
+        SymmetricEigen::try_new(sym, T::default_epsilon(), 200).ok_or(KiteError::EigenFailed)?;
     let vals = eig.eigenvalues;
     let vecs = eig.eigenvectors;
     let mut pairs = [
@@ -147,7 +154,10 @@ pub fn symmetric_eigen<T: Real>(m: &Matrix3<T>) -> Result<[(T, Vector3<T>); 3], 
         (vals.z, canonical_sign(vecs.column(2).into_owned())),
     ];
     pairs.sort_unstable_by(|a, b| a.0.partial_cmp(&b.0).unwrap_or(core::cmp::Ordering::Equal));
-    if pairs.iter().any(|(l, v)| !l.finite() || !vector_is_finite(v)) {
+    if pairs
+        .iter()
+        .any(|(l, v)| !l.finite() || !vector_is_finite(v))
+    {
         return Err(KiteError::EigenFailed);
     }
     Ok(pairs)
@@ -155,7 +165,10 @@ pub fn symmetric_eigen<T: Real>(m: &Matrix3<T>) -> Result<[(T, Vector3<T>); 3], 
 
 /// Flips `v` so that its largest-magnitude component is positive.
 fn canonical_sign<T: Real>(v: Vector3<T>) -> Vector3<T> {
-    let big = v.iter().fold(T::zero(), |best, &x| if x.abs() > best.abs() { x } else { best });
+    let big = v.iter().fold(
+        T::zero(),
+        |best, &x| if x.abs() > best.abs() { x } else { best },
+    );
     if big < T::zero() {
         -v
     } else {
@@ -173,6 +186,10 @@ pub fn stability<T: Real>(
 ) -> Result<Stability<T>, KiteError> {
     let jacobian = jacobian(kite, conditions, orientation, attachment)?;
     let pairs = symmetric_eigen(&jacobian)?;
-    let axes = pairs.map(|(eigenvalue, axis)| Axis { eigenvalue, axis, stable: eigenvalue < T::zero() });
+    let axes = pairs.map(|(eigenvalue, axis)| Axis {
+        eigenvalue,
+        axis,
+        stable: eigenvalue < T::zero(),
+    });
     Ok(Stability { jacobian, axes })
 }

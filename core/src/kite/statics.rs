@@ -25,7 +25,9 @@ pub fn air_wrench<T: Real>(
     for p in primitives {
         let q_t = p.rotation.transpose();
         let v_p = q_t * (velocity + angular_velocity.cross(&p.offset));
-        let w = p.coefficients.wrench(&v_p, &(q_t * angular_velocity), air_density);
+        let w = p
+            .coefficients
+            .wrench(&v_p, &(q_t * angular_velocity), air_density);
         let force = p.rotation * w.force;
         out.force += force;
         out.torque += p.rotation * w.torque + p.offset.cross(&force);
@@ -60,7 +62,12 @@ pub fn equilibrium<T: Real>(
         return Err(KiteError::NoPrimitives);
     }
     let velocity = orientation.inverse_transform_vector(&(-conditions.wind));
-    let air = air_wrench(kite.primitives, &velocity, &Vector3::zeros(), conditions.air_density);
+    let air = air_wrench(
+        kite.primitives,
+        &velocity,
+        &Vector3::zeros(),
+        conditions.air_density,
+    );
     let string_world = -(conditions.gravity * kite.mass + orientation.transform_vector(&air.force));
     if !vector_is_finite(&string_world) || !vector_is_finite(&air.torque) {
         return Err(KiteError::NonFinite("kite wrench"));

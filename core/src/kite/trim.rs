@@ -26,7 +26,11 @@ pub struct TrimOptions<T: Real> {
 
 impl<T: Real> Default for TrimOptions<T> {
     fn default() -> Self {
-        Self { max_iterations: 200, tolerance: lit(1e-7), max_step: lit(0.2) }
+        Self {
+            max_iterations: 200,
+            tolerance: lit(1e-7),
+            max_step: lit(0.2),
+        }
     }
 }
 
@@ -80,7 +84,12 @@ pub fn trim<T: Real>(
             }
         }
     }
-    Ok(Trim { orientation: r, torque, iterations, converged: norm(&torque) < options.tolerance })
+    Ok(Trim {
+        orientation: r,
+        torque,
+        iterations,
+        converged: norm(&torque) < options.tolerance,
+    })
 }
 
 /// The Levenberg-Marquardt step `-(JᵀJ + λI)⁻¹ Jᵀ T`.

@@ -19,9 +19,14 @@ pub fn golden_model() -> Coefficients<f64> {
     }
     let d = Matrix3::new(0.02, 0.001, 0.0, 0.001, 0.01, 0.0005, 0.0, 0.0005, 0.005);
     m.set_damping(&d).expect("psd");
-    m.body = Some(MassProperties { mass: 0.048, inertia: [1.0e-3, 3.6e-4, 1.36e-3, 0.0, 0.0, 0.0] });
+    m.body = Some(MassProperties {
+        mass: 0.048,
+        inertia: [1.0e-3, 3.6e-4, 1.36e-3, 0.0, 0.0, 0.0],
+    });
     m.provenance.method = "fit-lsq".try_into().expect("fits");
-    m.provenance.source = "golden generator, core/examples/make_golden.rs".try_into().expect("fits");
+    m.provenance.source = "golden generator, core/examples/make_golden.rs"
+        .try_into()
+        .expect("fits");
     m.provenance.frames_used = 1234;
     m.provenance.frames_dropped = 56;
     for r in [0.31, 0.12, 0.09] {
@@ -31,7 +36,11 @@ pub fn golden_model() -> Coefficients<f64> {
     for c in 0..COVERAGE_CELLS {
         m.provenance.coverage.push((c % 37) as u16).expect("fits");
     }
-    let mut ext = Extension { kind: extension_kind::ADDED_MASS, version: 1, data: heapless::Vec::new() };
+    let mut ext = Extension {
+        kind: extension_kind::ADDED_MASS,
+        version: 1,
+        data: heapless::Vec::new(),
+    };
     for b in [1u8, 2, 3, 250] {
         ext.data.push(b).expect("fits");
     }
