@@ -154,6 +154,57 @@ impl<T: Real> Coefficients<T> {
     /// All-zero coefficients of the given degree, pole and reference length
     /// L (m). The pole is normalised.
     pub fn zeros(degree: u8, pole: Vector3<T>, reference_length: T) -> Result<Self, ModelError> {
+        let (pole, reference_length) = Self::check_geometry(degree, pole, reference_length)?;
+        Ok(Self {
+            name: heapless::String::new(),
+            degree,
+            pole,
+            reference_length,
+            weights: [[T::zero(); ROW]; MAX_COEFFS],
+            damping: Matrix3::zeros(),
+            body: None,
+            provenance: Provenance::default(),
+            extensions: heapless::Vec::new(),
+        })
+    }
+
+    /// Resets `self` in place to all-zero coefficients of the given degree,
+    /// pole and reference length, with empty name, body, provenance and
+    /// extensions (as [`Self::zeros`], without a stack copy of the model:
+    /// that matters on a microcontroller). On error `self` is unchanged.
+    pub fn reset(
+        &mut self,
+        degree: u8,
+        pole: Vector3<T>,
+        reference_length: T,
+    ) -> Result<(), ModelError> {
+        let (pole, length) = Self::check_geometry(degree, pole, reference_length)?;
+        self.name.clear();
+        self.degree = degree;
+        self.pole = pole;
+        self.reference_length = length;
+        for row in self.weights.iter_mut() {
+            *row = [T::zero(); ROW];
+        }
+        self.damping = Matrix3::zeros();
+        self.body = None;
+        self.provenance.method.clear();
+        self.provenance.source.clear();
+        self.provenance.frames_used = 0;
+        self.provenance.frames_dropped = 0;
+        self.provenance.force_residuals.clear();
+        self.provenance.torque_residuals.clear();
+        self.provenance.coverage.clear();
+        self.extensions.clear();
+        Ok(())
+    }
+
+    /// Validates degree, pole and L; returns the unit pole and L.
+    fn check_geometry(
+        degree: u8,
+        pole: Vector3<T>,
+        reference_length: T,
+    ) -> Result<(Vector3<T>, T), ModelError> {
         if degree as usize > MAX_DEGREE {
             return Err(ModelError::DegreeTooHigh(degree));
         }
@@ -170,17 +221,7 @@ impl<T: Real> Coefficients<T> {
         if reference_length <= T::zero() {
             return Err(ModelError::BadReferenceLength);
         }
-        Ok(Self {
-            name: heapless::String::new(),
-            degree,
-            pole: pole / len,
-            reference_length,
-            weights: [[T::zero(); ROW]; MAX_COEFFS],
-            damping: Matrix3::zeros(),
-            body: None,
-            provenance: Provenance::default(),
-            extensions: heapless::Vec::new(),
-        })
+        Ok((pole / len, reference_length))
     }
 
     /// SH degree N.

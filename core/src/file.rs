@@ -252,6 +252,25 @@ fn write_payload<T: Real>(m: &Coefficients<T>, w: &mut Writer<'_>) -> Result<(),
 
 /// Decodes a whole file. The CRC is checked before anything else is read.
 pub fn decode<T: Real>(bytes: &[u8]) -> Result<Coefficients<T>, FileError> {
+    let mut model = Coefficients::zeros(0, Vector3::z(), T::one())?;
+    decode_into(bytes, &mut model)?;
+    Ok(model)
+}
+
+/// Decodes a whole file into `out`, in place: no copy of the model is
+/// made on the stack (a `Coefficients<f32>` is about 5 KiB, which matters
+/// on a microcontroller). On error `out` is reset to an empty degree-0
+/// model, never left half-decoded.
+pub fn decode_into<T: Real>(bytes: &[u8], out: &mut Coefficients<T>) -> Result<(), FileError> {
+    let result = decode_checked(bytes, out);
+    if result.is_err() {
+        // Cannot fail: the arguments are valid.
+        let _ = out.reset(0, Vector3::z(), T::one());
+    }
+    result
+}
+
+fn decode_checked<T: Real>(bytes: &[u8], out: &mut Coefficients<T>) -> Result<(), FileError> {
     let magic = bytes
         .get(..8)
         .ok_or(if bytes.len() < 8 && MAGIC.starts_with(bytes) {
@@ -280,11 +299,11 @@ pub fn decode<T: Real>(bytes: &[u8]) -> Result<Coefficients<T>, FileError> {
     }
     let payload = bytes.get(HEADER_LEN..end).ok_or(FileError::Truncated)?;
     let mut r = Reader { rest: payload };
-    let model = read_payload_v1(&mut r)?;
+    read_payload_v1(&mut r, out)?;
     if !r.rest.is_empty() {
         return Err(FileError::PayloadLength);
     }
-    Ok(model)
+    Ok(())
 }
 
 fn read_array<const N: usize>(bytes: &[u8], at: usize) -> Result<[u8; N], FileError> {
@@ -296,7 +315,7 @@ fn read_array<const N: usize>(bytes: &[u8], at: usize) -> Result<[u8; N], FileEr
     Ok(out)
 }
 
-fn read_payload_v1<T: Real>(r: &mut Reader<'_>) -> Result<Coefficients<T>, FileError> {
+fn read_payload_v1<T: Real>(r: &mut Reader<'_>, m: &mut Coefficients<T>) -> Result<(), FileError> {
     let c = T::of_f64;
     let name: heapless::String<NAME_CAPACITY> = r.string("name")?;
     let degree: u8 = r.take("degree")?;
@@ -305,7 +324,7 @@ fn read_payload_v1<T: Real>(r: &mut Reader<'_>) -> Result<Coefficients<T>, FileE
     }
     let pole = r.finite_array::<3>("pole")?;
     let length = r.finite("reference_length")?;
-    let mut m = Coefficients::zeros(degree, Vector3::from(pole.map(c)), c(length))?;
+    m.reset(degree, Vector3::from(pole.map(c)), c(length))?;
     m.set_name(&name)?;
     let count = coeff_count(degree as usize);
     for set in 0..6 {
@@ -334,19 +353,17 @@ fn read_payload_v1<T: Real>(r: &mut Reader<'_>) -> Result<Coefficients<T>, FileE
         RigidBody::<f64>::from_properties(&props)?;
         m.body = Some(props);
     }
-    m.provenance = read_provenance(r)?;
-    m.extensions = read_extensions(r)?;
-    Ok(m)
+    read_provenance(r, &mut m.provenance)?;
+    read_extensions(r, &mut m.extensions)?;
+    Ok(())
 }
 
-fn read_provenance(r: &mut Reader<'_>) -> Result<Provenance, FileError> {
-    let mut p = Provenance {
-        method: r.string::<32>("provenance.method")?,
-        source: r.string::<TEXT_CAPACITY>("provenance.source")?,
-        frames_used: r.take("provenance.frames_used")?,
-        frames_dropped: r.take("provenance.frames_dropped")?,
-        ..Provenance::default()
-    };
+/// Reads provenance into `p`, which must be empty (after `reset`).
+fn read_provenance(r: &mut Reader<'_>, p: &mut Provenance) -> Result<(), FileError> {
+    p.method = r.string::<32>("provenance.method")?;
+    p.source = r.string::<TEXT_CAPACITY>("provenance.source")?;
+    p.frames_used = r.take("provenance.frames_used")?;
+    p.frames_dropped = r.take("provenance.frames_dropped")?;
     for (list, field) in [
         (&mut p.force_residuals, "provenance.force_residuals"),
         (&mut p.torque_residuals, "provenance.torque_residuals"),
@@ -370,13 +387,14 @@ fn read_provenance(r: &mut Reader<'_>) -> Result<Provenance, FileError> {
             .push(v)
             .map_err(|_| FileError::BadCount("provenance.coverage"))?;
     }
-    Ok(p)
+    Ok(())
 }
 
+/// Reads extensions into `out`, which must be empty (after `reset`).
 fn read_extensions(
     r: &mut Reader<'_>,
-) -> Result<heapless::Vec<Extension, MAX_EXTENSIONS>, FileError> {
-    let mut out = heapless::Vec::new();
+    out: &mut heapless::Vec<Extension, MAX_EXTENSIONS>,
+) -> Result<(), FileError> {
     let n: u8 = r.take("extensions")?;
     if n as usize > MAX_EXTENSIONS {
         return Err(FileError::BadCount("extensions"));
@@ -399,5 +417,5 @@ fn read_extensions(
         }
         out.push(e).map_err(|_| FileError::BadCount("extensions"))?;
     }
-    Ok(out)
+    Ok(())
 }

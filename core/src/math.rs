@@ -20,9 +20,15 @@ pub trait Real: RealField + Copy + Default + core::fmt::Debug {
     fn root(self) -> Self;
     /// True when the value is neither NaN nor infinite.
     fn finite(self) -> bool;
+    /// The spherical-harmonic recurrence constants in this type.
+    fn walk_tables() -> &'static crate::sh::WalkTables<Self>;
 }
 
 impl Real for f32 {
+    #[inline(always)]
+    fn walk_tables() -> &'static crate::sh::WalkTables<Self> {
+        &crate::sh::WALK_F32
+    }
     #[inline(always)]
     fn of_f64(x: f64) -> Self {
         x as f32
@@ -69,6 +75,10 @@ impl Real for f32 {
 }
 
 impl Real for f64 {
+    #[inline(always)]
+    fn walk_tables() -> &'static crate::sh::WalkTables<Self> {
+        &crate::sh::WALK_F64
+    }
     #[inline(always)]
     fn of_f64(x: f64) -> Self {
         x

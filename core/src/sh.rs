@@ -242,6 +242,52 @@ const WALK_AB: [(f64, f64); MAX_COEFFS] = {
     t
 };
 
+/// The walk's constants in the scalar type itself, so that evaluation does
+/// no f64 -> f32 conversions (on a single-precision FPU such as the
+/// Cortex-M4F those are software calls).
+#[derive(Debug)]
+pub struct WalkTables<T> {
+    /// `(a_lm, b_lm)` in walk order ([`WALK_AB`] layout).
+    ab: [(T, T); MAX_COEFFS],
+    /// `q_m^m / q_{m-1}^{m-1}`.
+    diag: [T; MAX_DEGREE + 1],
+    /// `q_{m+1}^m / (z q_m^m)`.
+    sub: [T; MAX_DEGREE + 1],
+    /// `Y_00`, `sqrt(3)`, `sqrt(2)`.
+    y00_sqrt3_sqrt2: [T; 3],
+}
+
+/// The walk's constants in f64.
+pub static WALK_F64: WalkTables<f64> = WalkTables {
+    ab: WALK_AB,
+    diag: TABLES.diag,
+    sub: TABLES.sub,
+    y00_sqrt3_sqrt2: [Y00, SQRT3, SQRT2],
+};
+
+/// The walk's constants rounded once, at compile time, to f32.
+#[allow(clippy::indexing_slicing)]
+pub static WALK_F32: WalkTables<f32> = {
+    let mut t = WalkTables {
+        ab: [(0.0f32, 0.0f32); MAX_COEFFS],
+        diag: [0.0f32; MAX_DEGREE + 1],
+        sub: [0.0f32; MAX_DEGREE + 1],
+        y00_sqrt3_sqrt2: [Y00 as f32, SQRT3 as f32, SQRT2 as f32],
+    };
+    let mut i = 0;
+    while i < MAX_COEFFS {
+        t.ab[i] = (WALK_AB[i].0 as f32, WALK_AB[i].1 as f32);
+        i += 1;
+    }
+    let mut m = 0;
+    while m <= MAX_DEGREE {
+        t.diag[m] = TABLES.diag[m] as f32;
+        t.sub[m] = TABLES.sub[m] as f32;
+        m += 1;
+    }
+    t
+};
+
 /// Σ_k rows[k] · Y_k(dir), with `rows` in the walk order of `degree`
 /// ([`walk_position`]): the weighted sums of eqs. (7)-(8), fused with the
 /// SH recurrence so that no intermediate buffer is written. `dir` must be
@@ -281,33 +327,34 @@ pub fn evaluate_walk<T: Real>(degree: usize, dir: &Vector3<T>, out: &mut [T]) ->
 #[inline(always)]
 fn walk<T: Real>(degree: usize, dir: &Vector3<T>, mut emit: impl FnMut(T)) {
     let degree = degree.min(MAX_DEGREE);
+    let t = T::walk_tables();
     let (x, y, z) = (dir.x, dir.y, dir.z);
     let ab = |m: usize| {
         let start = WALK_START.get(m).copied().unwrap_or(0);
         let len = degree.saturating_sub(m + 1);
-        WALK_AB.get(start..start + len).unwrap_or(&[])
+        t.ab.get(start..start + len).unwrap_or(&[])
     };
+    let [y00, sqrt3, sqrt2] = t.y00_sqrt3_sqrt2;
     // m = 0: zonal harmonics.
-    let mut q_mm = T::of_f64(Y00);
+    let mut q_mm = y00;
     emit(q_mm);
     if degree >= 1 {
-        let (mut q2, mut q1) = (q_mm, T::of_f64(SQRT3) * z * q_mm);
+        let (mut q2, mut q1) = (q_mm, sqrt3 * z * q_mm);
         emit(q1);
         for &(a, b) in ab(0) {
-            let q = T::of_f64(a) * (z * q1 - T::of_f64(b) * q2);
+            let q = a * (z * q1 - b * q2);
             emit(q);
             q2 = q1;
             q1 = q;
         }
     }
     // m >= 1: (C_m, S_m) = (x + iy)^m carry the longitude.
-    let sqrt2 = T::of_f64(SQRT2);
     let (mut c, mut s) = (T::one(), T::zero());
     for m in 1..=degree {
         let (c_prev, s_prev) = (c, s);
         c = x * c_prev - y * s_prev;
         s = x * s_prev + y * c_prev;
-        q_mm *= T::of_f64(TABLES.diag.get(m).copied().unwrap_or(0.0));
+        q_mm *= t.diag.get(m).copied().unwrap_or_else(T::zero);
         let (cm, sm) = (sqrt2 * c, sqrt2 * s);
         emit(q_mm * cm);
         emit(q_mm * sm);
@@ -315,11 +362,11 @@ fn walk<T: Real>(degree: usize, dir: &Vector3<T>, mut emit: impl FnMut(T)) {
             break;
         }
         let mut q2 = q_mm;
-        let mut q1 = T::of_f64(TABLES.sub.get(m).copied().unwrap_or(0.0)) * z * q_mm;
+        let mut q1 = t.sub.get(m).copied().unwrap_or_else(T::zero) * z * q_mm;
         emit(q1 * cm);
         emit(q1 * sm);
         for &(a, b) in ab(m) {
-            let q = T::of_f64(a) * (z * q1 - T::of_f64(b) * q2);
+            let q = a * (z * q1 - b * q2);
             emit(q * cm);
             emit(q * sm);
             q2 = q1;

@@ -173,3 +173,20 @@ proptest! {
         }
     }
 }
+
+#[test]
+fn decode_into_reuses_storage_without_leftovers_and_resets_on_error() {
+    let mut out = model::golden_model().with_degree(12).unwrap();
+    out.provenance.coverage.clear();
+    let small = {
+        let mut m = Coefficients::<f64>::zeros(1, Vector3::x(), 2.0).unwrap();
+        m.set_alpha(0, 3, 0.5).unwrap();
+        m
+    };
+    omniad_core::file::decode_into(&encoded(&small), &mut out).unwrap();
+    assert_eq!(out, small);
+    let mut corrupt = GOLDEN_V1.to_vec();
+    corrupt[100] ^= 1;
+    assert!(omniad_core::file::decode_into(&corrupt, &mut out).is_err());
+    assert_eq!(out, Coefficients::zeros(0, Vector3::z(), 1.0).unwrap());
+}
