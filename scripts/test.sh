@@ -15,11 +15,14 @@ rustup component add rustfmt clippy >/dev/null 2>&1 || true
 # --- static checks -----------------------------------------------------------
 echo "== cargo fmt --check"
 cargo fmt --all -- --check
+(cd firmware-sim && cargo fmt --all -- --check)
 echo "== clippy (-D warnings; the core also denies unwrap/expect/panic/indexing)"
 cargo clippy --workspace --all-targets -- -D warnings
 echo "== omniad-core for thumbv7em-none-eabihf (no_std, no alloc)"
 cargo build -p omniad-core --target thumbv7em-none-eabihf
 
 # --- tests -------------------------------------------------------------------
-echo "== cargo test --workspace"
+echo "== cargo test --workspace (includes the QEMU firmware replay, tests/firmware_replay.rs)"
 cargo test --workspace
+echo "== firmware per-frame pipeline unit tests (host build; firmware-sim/ is its own workspace)"
+cargo test --manifest-path firmware-sim/pipeline/Cargo.toml --target-dir target/fw-pipeline-host

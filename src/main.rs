@@ -12,8 +12,9 @@ use std::process::ExitCode;
 #[derive(Parser, Debug)]
 #[command(name = "omniad", version, about, long_about = None)]
 struct Cli {
+    /// Without a command the terminal UI opens on the bundled defaults.
     #[command(subcommand)]
-    command: Command,
+    command: Option<Command>,
 }
 
 #[derive(Subcommand, Debug)]
@@ -25,14 +26,42 @@ enum Command {
     Coeffs(cmd::coeffs::CoeffsCommand),
     /// Simulate one body falling through air (RK4).
     Simulate(cmd::simulate::SimulateArgs),
+    /// Firmware simulator: the core on a Cortex-M4F in QEMU, replaying flight logs.
+    #[command(subcommand)]
+    Firmware(cmd::firmware::FirmwareCommand),
+    /// KiteShop (paper §7): check, trim, fly and export 3-D kites.
+    #[command(subcommand)]
+    Kite(cmd::kite::KiteCommand),
+    /// Coefficients of a panel model (plate, open box) projected onto SH.
+    Panel(cmd::panel::PanelArgs),
+    /// Terminal UI: coefficient spheres, kite design, live simulation,
+    /// telemetry (also what `omniad` with no command opens).
+    Tui(cmd::tui::TuiArgs),
+    /// Fit a coefficient file to a recording set (paper §5-6).
+    Fit(cmd::fit::FitArgs),
+    /// Smoothed rigid-body states of every take of a recording set (§5).
+    Reconstruct(cmd::reconstruct::ReconstructArgs),
+    /// Generate a synthetic recording set (with truth/) from a known model.
+    Synth(cmd::synth::SynthArgs),
+    /// Convert DLTdv / DeepLabCut marker tracks to the recording format.
+    ImportTracks(cmd::import::ImportArgs),
 }
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match &cli.command {
-        Command::Info(a) => cmd::info::run(a),
-        Command::Coeffs(c) => cmd::coeffs::run(c),
-        Command::Simulate(a) => cmd::simulate::run(a),
+        None => cmd::tui::run_default(),
+        Some(Command::Tui(a)) => cmd::tui::run(a),
+        Some(Command::Info(a)) => cmd::info::run(a),
+        Some(Command::Coeffs(c)) => cmd::coeffs::run(c),
+        Some(Command::Simulate(a)) => cmd::simulate::run(a),
+        Some(Command::Firmware(c)) => cmd::firmware::run(c),
+        Some(Command::Kite(c)) => cmd::kite::run(c),
+        Some(Command::Panel(a)) => cmd::panel::run(a),
+        Some(Command::Fit(a)) => cmd::fit::run(a),
+        Some(Command::Reconstruct(a)) => cmd::reconstruct::run(a),
+        Some(Command::Synth(a)) => cmd::synth::run(a),
+        Some(Command::ImportTracks(a)) => cmd::import::run(a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -118,7 +118,7 @@ impl PanelModel {
     pub fn translation_wrench(&self, v: &Vector3<f64>, rho: f64) -> (Vector3<f64>, Vector3<f64>) {
         let speed = v.norm();
         let (mut f, mut t) = (Vector3::zeros(), Vector3::zeros());
-        if !(speed > 0.0) {
+        if speed.is_nan() || speed <= 0.0 {
             return (f, t);
         }
         let q = 0.5 * rho * speed * speed;

@@ -53,7 +53,8 @@ impl<T: Real> Coefficients<T> {
         let s = sh::accumulate(self.degree() as usize, e, self.rows());
         let basis = vector_basis(e, &self.pole());
         let [b1, b2, b3] = basis;
-        let [a1, a2, a3, t1, t2, t3, _, _] = s;
+        let lane = |i: usize| s.get(i).copied().unwrap_or_else(T::zero);
+        let [a1, a2, a3, t1, t2, t3] = [0, 1, 2, 3, 4, 5].map(lane);
         DirectionCoefficients {
             force: b1 * a1 + b2 * a2 + b3 * a3,
             torque: b1 * t1 + b2 * t2 + b3 * t3,

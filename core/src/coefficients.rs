@@ -8,9 +8,16 @@ use nalgebra::{Matrix3, Vector3};
 
 /// Number of interleaved coefficient sets: `alpha^1..3`, `beta^1..3`.
 pub const SETS: usize = 6;
-/// Row width: [`SETS`] padded to 8 so that the six accumulations run as
-/// full SIMD lanes on the host (two unused lanes stay zero).
+/// Row width. On the host, [`SETS`] padded to 8 so that the six
+/// accumulations run as full SIMD lanes (the two extra lanes stay zero).
+/// On Arm (the Cortex-M4F has no SIMD floats) padding would only cost two
+/// wasted multiply-adds per row, so rows are exactly six wide. Each lane is
+/// accumulated in the same order either way, so results are bit-identical.
+#[cfg(not(target_arch = "arm"))]
 pub const ROW: usize = 8;
+/// Row width (see the host definition).
+#[cfg(target_arch = "arm")]
+pub const ROW: usize = SETS;
 /// Longest object name, in bytes (UTF-8).
 pub const NAME_CAPACITY: usize = 64;
 /// Longest free-text provenance field, in bytes.

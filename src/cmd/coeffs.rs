@@ -63,7 +63,7 @@ pub fn parse_direction(text: &str, line: usize) -> Result<Vector3<f64>> {
     }
     let e = Vector3::from(v);
     let n = e.norm();
-    if !(n > 0.0) || !n.is_finite() {
+    if !(n.is_finite() && n > 0.0) {
         bail!(
             "stdin line {line}: direction ({}, {}, {}) has zero or infinite length",
             v[0],

@@ -2,5 +2,13 @@
 
 pub mod coeffs;
 pub mod common;
+pub mod firmware;
+pub mod fit;
+pub mod import;
 pub mod info;
+pub mod kite;
+pub mod panel;
+pub mod reconstruct;
 pub mod simulate;
+pub mod synth;
+pub mod tui;

@@ -120,7 +120,7 @@ pub fn run(a: &PanelArgs) -> Result<()> {
         ),
     };
     let l = (x * x + y * y + z * z).sqrt();
-    if !(l > 0.0) {
+    if l.is_nan() || l <= 0.0 {
         bail!("--size: all dimensions are zero");
     }
     let model = panel_coefficients(&panels, a.degree, pole, l)?;

@@ -89,13 +89,13 @@ fn parse_quat(s: &str) -> Result<UnitQuaternion<f64>, String> {
 
 /// Runs `omniad simulate`.
 pub fn run(a: &SimulateArgs) -> Result<()> {
-    if !(a.duration >= 0.0 && a.duration.is_finite()) {
+    if !(a.duration.is_finite() && a.duration >= 0.0) {
         bail!("--duration must be a finite non-negative number of seconds");
     }
-    if !(a.dt > 0.0 && a.dt.is_finite()) || !(a.rate > 0.0 && a.rate.is_finite()) {
+    if !(a.dt.is_finite() && a.dt > 0.0 && a.rate.is_finite() && a.rate > 0.0) {
         bail!("--dt and --rate must be positive");
     }
-    if !(a.air_density >= 0.0) {
+    if !(a.air_density.is_finite() && a.air_density >= 0.0) {
         bail!("--air-density must be non-negative");
     }
     let model = read_coefficients(&a.file)?;
@@ -171,7 +171,7 @@ fn body_of(model: &omniad_core::Coefficients<f64>, a: &SimulateArgs) -> Result<R
     let mut body = RigidBody::from_properties(&props)
         .map_err(|e| anyhow::anyhow!("{}: {e}", a.file.display()))?;
     if let Some(m) = a.mass {
-        if !(m > 0.0 && m.is_finite()) {
+        if !(m.is_finite() && m > 0.0) {
             bail!("--mass must be positive");
         }
         let scale = m / body.mass;

@@ -1,0 +1,92 @@
+//! Measures the issue-3 acceptance numbers on a synthetic recording set:
+//! `cargo run --release -p omniad-acquire --example acceptance -- SET [method]`.
+
+use omniad_acquire::pipeline::{self, FitConfig, Method, Silent};
+use omniad_acquire::recording::RecordingSet;
+use omniad_acquire::truth::{force_error, read_coefficients, read_states, state_error, StateError};
+use std::path::Path;
+use std::time::Instant;
+
+fn main() -> Result<(), Box<dyn std::error::Error>> {
+    let args: Vec<String> = std::env::args().collect();
+    let dir = Path::new(
+        args.get(1)
+            .ok_or("usage: acceptance SET [lsq|paper] [iterations]")?,
+    );
+    let method = if args.get(2).map(String::as_str) == Some("paper") {
+        Method::Paper
+    } else {
+        Method::Lsq
+    };
+    let iterations = args.get(3).and_then(|s| s.parse().ok()).unwrap_or(3);
+    let start = Instant::now();
+    let set = RecordingSet::load(dir)?;
+    let floor = std::env::var("FLOOR")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(0.1);
+    let mut cfg = FitConfig {
+        method,
+        iterations,
+        noise_floor: floor,
+        ..FitConfig::default()
+    };
+    if let Some(r) = std::env::var("XR").ok().and_then(|s| s.parse().ok()) {
+        cfg.lsq.smoothing = r;
+    }
+    let out = pipeline::fit(&set, &cfg, &Silent)?;
+    let fit_time = start.elapsed().as_secs_f64();
+    for (i, r) in out.iterations.iter().enumerate() {
+        println!(
+            "iteration {i}: residual {:.4} {:.4}  noise {:.3} {:.2}  {:?} {:?} {:.2}s",
+            r.residual.0,
+            r.residual.1,
+            r.noise.force_walk,
+            r.noise.torque_walk,
+            r.filter,
+            r.forces,
+            r.seconds
+        );
+    }
+    let noise = pipeline::final_noise(&set, &out, &cfg);
+    let rec = pipeline::reconstruct(&set, &out.model, noise, &cfg.filter, &Silent)?;
+    for (label, states) in [
+        ("last-iteration", &out.reconstruction),
+        ("final-model", &rec),
+    ] {
+        let mut total = StateError::default();
+        for (take, s) in set.takes.iter().zip(states.iter()) {
+            let truth = read_states(&dir.join("truth").join(format!("{}.csv", take.name)))?;
+            let e = state_error(s, &truth);
+            if label == "final-model" {
+                println!(
+                    "  {}: pos {:.2} cm, angle {:.2} deg",
+                    take.name,
+                    e.position_rms() * 100.0,
+                    e.angle_rms().to_degrees()
+                );
+            }
+            total.add(&e);
+        }
+        println!(
+            "{label}: position RMS {:.2} cm, orientation RMS {:.2} deg",
+            total.position_rms() * 100.0,
+            total.angle_rms().to_degrees()
+        );
+    }
+    let truth = read_coefficients(&dir.join("truth/coefficients.csv"))?;
+    let dirs: Vec<_> = out
+        .samples
+        .iter()
+        .filter(|s| s.use_force && s.velocity.norm() > 0.0)
+        .map(|s| s.velocity.normalize())
+        .collect();
+    let (err, n) = force_error(&out.model, &truth, &dirs, 20, 15f64.to_radians());
+    println!(
+        "C_F relative L2 error {:.2} % over {n} grid directions",
+        err * 100.0
+    );
+    println!("D = {:?}", out.model.damping());
+    println!("fit wall time {fit_time:.2} s");
+    Ok(())
+}

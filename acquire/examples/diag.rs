@@ -1,0 +1,126 @@
+//! Reconstruction diagnostics on a synthetic set: per-take error in the
+//! camera frame (mean and RMS per axis) with the generating model or zero.
+//! `cargo run --release -p omniad-acquire --example diag -- SET plate|box|zero [walk-scale]`
+
+use nalgebra::{Quaternion, UnitQuaternion, Vector3};
+use omniad_acquire::filter::FilterConfig;
+use omniad_acquire::pipeline::{self, Silent};
+use omniad_acquire::recording::RecordingSet;
+use omniad_acquire::synth::{truth_model, ObjectSpec, SynthObject};
+use omniad_acquire::truth::read_states;
+use std::path::Path;
+
+fn main() -> Result<(), Box<dyn std::error::Error>> {
+    let args: Vec<String> = std::env::args().collect();
+    let dir = Path::new(
+        args.get(1)
+            .ok_or("usage: diag SET plate|box|zero [scale]")?,
+    );
+    let set = RecordingSet::load(dir)?;
+    let model = match args.get(2).map(String::as_str) {
+        Some("plate") => truth_model(&ObjectSpec::of(SynthObject::Plate), 8)?,
+        Some("box") => truth_model(&ObjectSpec::of(SynthObject::Box), 8)?,
+        _ => omniad_acquire::model::zero_model(&set.object, 8)?,
+    };
+    let scale: f64 = args.get(3).and_then(|s| s.parse().ok()).unwrap_or(1.0);
+    let mut noise = pipeline::initial_noise(&set);
+    noise.force_walk *= scale;
+    noise.torque_walk *= scale;
+    let acc: f64 = args.get(4).and_then(|s| s.parse().ok()).unwrap_or(1.0);
+    noise.accel *= acc;
+    noise.angular_accel *= acc;
+    let bias: f64 = args.get(5).and_then(|s| s.parse().ok()).unwrap_or(1.0);
+    let rec = if (bias - 1.0).abs() < 1e-12 {
+        pipeline::reconstruct(&set, &model, noise, &FilterConfig::default(), &Silent)?
+    } else {
+        let body = omniad_core::RigidBody::new(set.object.mass, set.object.inertia)
+            .map_err(|e| format!("{e}"))?;
+        let g = set.world.gravity.norm();
+        let f = set.object.mass * g;
+        let mut config = FilterConfig {
+            initial_bias: [f * bias, 0.5 * f * set.object.reference_length * bias],
+            ..FilterConfig::default()
+        };
+        config.pixel_noise = set.camera.as_ref().map(|c| c.pixel_noise).unwrap_or(1.0);
+        let filter = omniad_acquire::filter::Filter {
+            process: omniad_acquire::process::Process {
+                body,
+                environment: pipeline::environment(&set),
+                model: &model,
+                accel_noise: noise.accel,
+                angular_accel_noise: noise.angular_accel,
+                force_walk: noise.force_walk,
+                torque_walk: noise.torque_walk,
+            },
+            object: &set.object,
+            camera: set.camera.as_ref(),
+            config,
+        };
+        set.takes
+            .iter()
+            .map(|t| {
+                let (p, q) = t.initial.expect("marker take");
+                filter.run(
+                    &t.epochs,
+                    omniad_core::State {
+                        position: p,
+                        orientation: q,
+                        velocity: Vector3::zeros(),
+                        angular_velocity: Vector3::zeros(),
+                    },
+                )
+            })
+            .collect()
+    };
+    let cam = set.camera.as_ref().ok_or("no camera")?;
+    let (mut tp, mut ta, mut tn) = (0.0, 0.0, 0usize);
+    for (take, s) in set.takes.iter().zip(&rec) {
+        let truth = read_states(&dir.join("truth").join(format!("{}.csv", take.name)))?;
+        let mut mean = Vector3::zeros();
+        let mut sq = Vector3::zeros();
+        let mut ang = 0.0;
+        let mut n = 0usize;
+        let mut last_ang = 0.0;
+        for (t, st) in s.times.iter().zip(&s.states) {
+            let Some(r) = truth.iter().find(|r| (r[0] - t).abs() < 1e-3) else {
+                continue;
+            };
+            let q = UnitQuaternion::from_quaternion(Quaternion::new(r[4], r[5], r[6], r[7]));
+            let d = cam.rotation * (st.position - Vector3::new(r[1], r[2], r[3]));
+            mean += d;
+            sq += d.component_mul(&d);
+            let a = st.orientation.angle_to(&q);
+            ang += a * a;
+            last_ang = a;
+            if std::env::var("TAKE").ok().as_deref() == Some(take.name.as_str()) && n % 5 == 0 {
+                println!("  t {t:.3} ang {:.1} d {:.3} {:.3} {:.3}", a.to_degrees(), d.x, d.y, d.z);
+            }
+            n += 1;
+        }
+        let nf = n.max(1) as f64;
+        tp += sq.sum();
+        ta += ang;
+        tn += n;
+        let m = mean / nf * 100.0;
+        let r = (sq / nf).map(f64::sqrt) * 100.0;
+        println!(
+            "{:8} mean cam [{:6.2} {:6.2} {:6.2}] cm  rms [{:5.2} {:5.2} {:5.2}] cm  ang {:5.2} deg (end {:5.1})  {:?}",
+            take.name,
+            m.x,
+            m.y,
+            m.z,
+            r.x,
+            r.y,
+            r.z,
+            (ang / nf).sqrt().to_degrees(),
+            f64::to_degrees(last_ang),
+            s.stats
+        );
+    }
+    println!(
+        "total: position RMS {:.2} cm, orientation RMS {:.2} deg",
+        (tp / tn as f64).sqrt() * 100.0,
+        (ta / tn as f64).sqrt().to_degrees()
+    );
+    Ok(())
+}

@@ -1,0 +1,516 @@
+//! Motion reconstruction (§5): an iterated extended Kalman filter with the
+//! OmniAD model as process model ([`Process`]) and a Rauch-Tung-Striebel
+//! smoother, in error-state form ([`crate::state`]).
+//!
+//! Robustness: frames without observations are predicted only; a marker
+//! whose innovation fails a chi-square gate is ignored and counted; when
+//! every marker of [`LOST_FRAMES`] frames in a row is gated, the filter
+//! assumes it is lost and accepts the next frame's markers ungated.
+
+use crate::camera::Camera;
+use crate::measurement::{marker_pixel, pose_residual};
+use crate::process::Process;
+use crate::recording::Object;
+use crate::state::{boxminus, boxplus, Cov, Delta, FilterState};
+use crate::tracks::{Epoch, MarkerSighting, Observation};
+use nalgebra::{Matrix3, Rotation3, SMatrix, UnitQuaternion, Vector3};
+use omniad_core::State;
+
+/// Consecutive fully-gated frames after which gating is suspended once.
+pub const LOST_FRAMES: usize = 3;
+
+/// Posterior miss, in pixel sigmas, beyond which a marker is an outlier.
+pub const POSTERIOR_GATE: f64 = 6.0;
+
+/// Seen markers count as coplanar (see [`Filter::mirror_check`]) when the
+/// smallest eigenvalue of their scatter is below this fraction of the largest.
+pub const MIRROR_PLANARITY: f64 = 0.01;
+
+/// Filter settings. Defaults are documented per field.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FilterConfig {
+    /// Pixel noise, 1 sigma, px (from the camera).
+    pub pixel_noise: f64,
+    /// Pose-track position noise, 1 sigma, m (default 2 mm).
+    pub pose_position_noise: f64,
+    /// Pose-track orientation noise, 1 sigma, rad (default 0.5°).
+    pub pose_angle_noise: f64,
+    /// Chi-square gate per marker (2 dof) / per pose (6 dof): default 25
+    /// and 40 (far beyond noise; catches tracker jumps).
+    pub marker_gate: f64,
+    /// See `marker_gate`.
+    pub pose_gate: f64,
+    /// Initial 1-sigma of position (m), orientation (rad), velocity (m/s)
+    /// and angular velocity (rad/s) around the take's rough guess.
+    pub initial_sigma: [f64; 4],
+    /// Initial 1-sigma of the unexplained force (N) and torque (N m).
+    pub initial_bias: [f64; 2],
+    /// Gauss-Newton iterations of each measurement update.
+    pub update_iterations: usize,
+    /// Forward-backward passes; each pass after the first starts from the
+    /// previous pass's smoothed first state, so that the early frames are
+    /// linearised about a good estimate (default 2).
+    pub passes: usize,
+}
+
+impl Default for FilterConfig {
+    fn default() -> Self {
+        Self {
+            pixel_noise: 1.0,
+            pose_position_noise: 0.002,
+            pose_angle_noise: 0.5f64.to_radians(),
+            marker_gate: 25.0,
+            pose_gate: 40.0,
+            initial_sigma: [0.3, 0.5, 5.0, 20.0],
+            initial_bias: [1.0, 0.1],
+            update_iterations: 4,
+            passes: 2,
+        }
+    }
+}
+
+/// Counts of what the filter did with the observations.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct FilterStats {
+    /// Marker rows (or poses) used.
+    pub used: usize,
+    /// Marker rows (or poses) rejected by the gate (outliers).
+    pub gated: usize,
+    /// Frames with no observation at all.
+    pub empty_frames: usize,
+    /// Marker rows behind the camera in the prediction (unusable).
+    pub unprojectable: usize,
+    /// Predictions that were not finite (the filter restarted).
+    pub restarts: usize,
+}
+
+fn finite(x: &FilterState) -> bool {
+    x.body.is_finite() && x.force.iter().chain(x.torque.iter()).all(|v| v.is_finite())
+}
+
+/// A smoothed take: one state per epoch.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Smoothed {
+    /// Epoch times, s.
+    pub times: Vec<f64>,
+    /// Smoothed states.
+    pub states: Vec<State<f64>>,
+    /// Counts.
+    pub stats: FilterStats,
+}
+
+/// Everything the filter needs besides the observations.
+pub struct Filter<'a> {
+    /// Process model.
+    pub process: Process<'a>,
+    /// Object (markers).
+    pub object: &'a Object,
+    /// Camera (marker takes).
+    pub camera: Option<&'a Camera>,
+    /// Settings.
+    pub config: FilterConfig,
+}
+
+struct Step {
+    predicted: FilterState,
+    predicted_cov: Cov,
+    filtered: FilterState,
+    filtered_cov: Cov,
+    /// Jacobian from the previous epoch to this one.
+    jacobian: Cov,
+}
+
+impl Filter<'_> {
+    /// Filters and smooths one take starting from `initial` (a rough guess);
+    /// the counts are those of the last pass.
+    pub fn run(&self, epochs: &[Epoch], initial: State<f64>) -> Smoothed {
+        let mut start = FilterState::new(initial);
+        let mut result = (Vec::new(), FilterStats::default());
+        for _ in 0..self.config.passes.max(1) {
+            let mut stats = FilterStats::default();
+            let steps = self.forward(epochs, start, &mut stats);
+            let smoothed = smooth(&steps);
+            start = smoothed.first().copied().unwrap_or(start);
+            result = (smoothed, stats);
+        }
+        let (smoothed, stats) = result;
+        Smoothed {
+            times: epochs.iter().map(|e| e.t).collect(),
+            states: smoothed.into_iter().map(|s| s.body).collect(),
+            stats,
+        }
+    }
+
+    fn initial_cov(&self) -> Cov {
+        let mut p = Cov::zeros();
+        let c = &self.config.initial_sigma;
+        let sigmas = [
+            c[0],
+            c[1],
+            c[2],
+            c[3],
+            self.config.initial_bias[0],
+            self.config.initial_bias[1],
+        ];
+        for (i, s) in sigmas.iter().enumerate() {
+            for j in 0..3 {
+                p[(3 * i + j, 3 * i + j)] = s * s;
+            }
+        }
+        p
+    }
+
+    fn forward(
+        &self,
+        epochs: &[Epoch],
+        initial: FilterState,
+        stats: &mut FilterStats,
+    ) -> Vec<Step> {
+        let mut out: Vec<Step> = Vec::with_capacity(epochs.len());
+        let mut lost = 0;
+        let mut prev_t = epochs.first().map(|e| e.t).unwrap_or(0.0);
+        for e in epochs {
+            let (predicted, predicted_cov, jacobian) = match out.last() {
+                None => (initial, self.initial_cov(), Cov::identity()),
+                Some(p) => {
+                    let dt = e.t - prev_t;
+                    let (x, f) = self.process.step_with_jacobian(&p.filtered, dt);
+                    let cov = f * p.filtered_cov * f.transpose() + self.process.noise(dt);
+                    if finite(&x) && cov.iter().all(|v| v.is_finite()) {
+                        (x, cov, f)
+                    } else {
+                        // The model blew up: restart from the last estimate.
+                        stats.restarts += 1;
+                        (
+                            p.filtered,
+                            p.filtered_cov + self.initial_cov(),
+                            Cov::identity(),
+                        )
+                    }
+                }
+            };
+            prev_t = e.t;
+            let (mut filtered, mut filtered_cov) =
+                self.update(&e.observation, &predicted, &predicted_cov, &mut lost, stats);
+            if !finite(&filtered) || filtered_cov.iter().any(|v| !v.is_finite()) {
+                stats.restarts += 1;
+                (filtered, filtered_cov) = (predicted, predicted_cov);
+            }
+            out.push(Step {
+                predicted,
+                predicted_cov,
+                filtered,
+                filtered_cov,
+                jacobian,
+            });
+        }
+        out
+    }
+
+    fn update(
+        &self,
+        obs: &Observation,
+        x: &FilterState,
+        p: &Cov,
+        lost: &mut usize,
+        stats: &mut FilterStats,
+    ) -> (FilterState, Cov) {
+        match obs {
+            Observation::Markers(list) if list.is_empty() => {
+                stats.empty_frames += 1;
+                (*x, *p)
+            }
+            Observation::Markers(list) => {
+                let accepted = self.gate_markers(list, x, p, *lost >= LOST_FRAMES, stats);
+                if accepted.is_empty() {
+                    *lost += 1;
+                    return (*x, *p);
+                }
+                *lost = 0;
+                let (list, post, cov) = self.update_markers_robust(accepted, x, p, stats);
+                self.mirror_check(&list, x, p, post, cov)
+            }
+            Observation::Pose(y, q) => self.update_pose(y, q, x, p, stats),
+        }
+    }
+
+    /// Markers whose innovation passes the chi-square gate (all when `force`).
+    fn gate_markers(
+        &self,
+        list: &[MarkerSighting],
+        x: &FilterState,
+        p: &Cov,
+        force: bool,
+        stats: &mut FilterStats,
+    ) -> Vec<MarkerSighting> {
+        let Some(camera) = self.camera else {
+            return Vec::new();
+        };
+        let r = self.config.pixel_noise.powi(2);
+        let mut out = Vec::with_capacity(list.len());
+        for m in list {
+            let Some((_, body)) = self.object.markers.get(m.marker) else {
+                continue;
+            };
+            let Some((pixel, h)) = marker_pixel(camera, &x.body, body) else {
+                stats.unprojectable += 1;
+                continue;
+            };
+            let s = h * p * h.transpose() + nalgebra::Matrix2::identity() * r;
+            let nu = m.pixel - pixel;
+            let d2 = s
+                .try_inverse()
+                .map(|si| (nu.transpose() * si * nu)[0])
+                .unwrap_or(f64::INFINITY);
+            if force || d2 <= self.config.marker_gate {
+                out.push(*m);
+            } else {
+                stats.gated += 1;
+            }
+        }
+        out
+    }
+
+    /// The update, then a posterior check: while more than three markers
+    /// remain and one misses its posterior prediction by more than
+    /// [`POSTERIOR_GATE`] sigmas, the worst is dropped (counted as gated) and
+    /// the update redone. This catches outliers that the prior gate lets
+    /// through while the prediction is still uncertain.
+    fn update_markers_robust(
+        &self,
+        mut list: Vec<MarkerSighting>,
+        x: &FilterState,
+        p: &Cov,
+        stats: &mut FilterStats,
+    ) -> (Vec<MarkerSighting>, FilterState, Cov) {
+        loop {
+            let (post, cov) = self.update_markers(&list, x, x, p);
+            let worst = self.worst_marker(&list, &post);
+            match worst {
+                Some((i, r)) if list.len() > 3 && r > POSTERIOR_GATE * self.config.pixel_noise => {
+                    list.remove(i);
+                    stats.gated += 1;
+                }
+                _ => {
+                    stats.used += list.len();
+                    return (list, post, cov);
+                }
+            }
+        }
+    }
+
+    /// Index and pixel miss of the marker worst predicted by `x`.
+    fn worst_marker(&self, list: &[MarkerSighting], x: &FilterState) -> Option<(usize, f64)> {
+        let camera = self.camera?;
+        list.iter()
+            .enumerate()
+            .filter_map(|(i, m)| {
+                let (_, body) = self.object.markers.get(m.marker)?;
+                let (pixel, _) = marker_pixel(camera, &x.body, body)?;
+                Some((i, (m.pixel - pixel).norm()))
+            })
+            .max_by(|a, b| a.1.total_cmp(&b.1))
+    }
+
+    /// Iterated (Gauss-Newton) EKF update with marker pixels, information form.
+    fn update_markers(
+        &self,
+        list: &[MarkerSighting],
+        start: &FilterState,
+        prior: &FilterState,
+        p: &Cov,
+    ) -> (FilterState, Cov) {
+        let Some(camera) = self.camera else {
+            return (*prior, *p);
+        };
+        let Some(p_inv) = p.cholesky().map(|c| c.inverse()) else {
+            return (*prior, *p);
+        };
+        let w = 1.0 / self.config.pixel_noise.powi(2);
+        let mut x = *start;
+        let mut info = p_inv;
+        for _ in 0..self.config.update_iterations.max(1) {
+            let delta = boxminus(&x, prior);
+            info = p_inv;
+            let mut g = -(p_inv * delta);
+            for m in list {
+                let Some((_, body)) = self.object.markers.get(m.marker) else {
+                    continue;
+                };
+                let Some((pixel, h)) = marker_pixel(camera, &x.body, body) else {
+                    continue;
+                };
+                info += h.transpose() * h * w;
+                g += h.transpose() * (m.pixel - pixel) * w;
+            }
+            let Some(chol) = info.cholesky() else { break };
+            let step = chol.solve(&g);
+            x = boxplus(&x, &step);
+            if step.norm() < 1e-10 {
+                break;
+            }
+        }
+        let cov = info.cholesky().map(|c| c.inverse()).unwrap_or(*p);
+        (x, cov)
+    }
+
+    /// The MAP cost of an updated state: prior term plus the markers'
+    /// squared pixel misses, both in sigmas squared.
+    fn map_cost(
+        &self,
+        list: &[MarkerSighting],
+        post: &FilterState,
+        prior: &FilterState,
+        p_inv: &Cov,
+    ) -> f64 {
+        let Some(camera) = self.camera else {
+            return f64::INFINITY;
+        };
+        let d = boxminus(post, prior);
+        let mut cost = (d.transpose() * p_inv * d)[0];
+        let w = 1.0 / self.config.pixel_noise.powi(2);
+        for m in list {
+            let Some((_, body)) = self.object.markers.get(m.marker) else {
+                continue;
+            };
+            match marker_pixel(camera, &post.body, body) {
+                Some((pixel, _)) => cost += (m.pixel - pixel).norm_squared() * w,
+                None => return f64::INFINITY,
+            }
+        }
+        cost
+    }
+
+    /// Coplanar markers seen from afar fit two poses almost equally well:
+    /// the plane tilted towards or away from the line of sight (the
+    /// mirror-image ambiguity of planar pose estimation). The iterated
+    /// update is a local search and keeps whichever branch the prediction
+    /// starts on, so the update is repeated from the other branch and the
+    /// state with the lower MAP cost (prior plus markers) is kept.
+    fn mirror_check(
+        &self,
+        list: &[MarkerSighting],
+        prior: &FilterState,
+        p: &Cov,
+        post: FilterState,
+        cov: Cov,
+    ) -> (FilterState, Cov) {
+        let Some(start) = self.mirror(list, &post) else {
+            return (post, cov);
+        };
+        let Some(p_inv) = p.cholesky().map(|c| c.inverse()) else {
+            return (post, cov);
+        };
+        let (alt, alt_cov) = self.update_markers(list, &start, prior, p);
+        let (a, b) = (
+            self.map_cost(list, &post, prior, &p_inv),
+            self.map_cost(list, &alt, prior, &p_inv),
+        );
+        if b < a && finite(&alt) && alt_cov.iter().all(|v| v.is_finite()) {
+            (alt, alt_cov)
+        } else {
+            (post, cov)
+        }
+    }
+
+    /// The mirror-image pose of `x` for the seen markers, when they are
+    /// (nearly) coplanar: the markers' offsets from their centroid reflected
+    /// through the plane normal to the line of sight (`R' = S R F`, `S` the
+    /// world reflection along the line of sight, `F` the body reflection
+    /// across the marker plane), keeping the centroid in place; the angular
+    /// velocity is mirrored accordingly (`Ω' = -F Ω`).
+    fn mirror(&self, list: &[MarkerSighting], x: &FilterState) -> Option<FilterState> {
+        let camera = self.camera?;
+        let pts: Vec<Vector3<f64>> = list
+            .iter()
+            .filter_map(|m| self.object.markers.get(m.marker).map(|(_, b)| *b))
+            .collect();
+        if pts.len() < 3 {
+            return None;
+        }
+        let c = pts.iter().sum::<Vector3<f64>>() / pts.len() as f64;
+        let scatter = pts
+            .iter()
+            .fold(Matrix3::zeros(), |a, q| a + (q - c) * (q - c).transpose());
+        let eig = scatter.symmetric_eigen();
+        let (imin, smallest) = eig.eigenvalues.argmin();
+        let largest = eig.eigenvalues.max();
+        if largest <= 0.0 || smallest > MIRROR_PLANARITY * largest {
+            return None;
+        }
+        let m: Vector3<f64> = eig.eigenvectors.column(imin).into_owned();
+        let r = x.body.orientation.to_rotation_matrix().into_inner();
+        let centroid = x.body.position + r * c;
+        let eye = -camera.rotation.transpose() * camera.translation;
+        let l = (centroid - eye).try_normalize(1e-9)?;
+        let s = Matrix3::identity() - 2.0 * l * l.transpose();
+        let f = Matrix3::identity() - 2.0 * m * m.transpose();
+        let r2 = s * r * f;
+        let q2 = UnitQuaternion::from_rotation_matrix(&Rotation3::from_matrix_unchecked(r2));
+        let mut out = *x;
+        out.body.orientation = q2;
+        out.body.position = centroid - r2 * c;
+        out.body.angular_velocity = -(f * x.body.angular_velocity);
+        Some(out)
+    }
+
+    fn update_pose(
+        &self,
+        y: &Vector3<f64>,
+        q: &nalgebra::UnitQuaternion<f64>,
+        x: &FilterState,
+        p: &Cov,
+        stats: &mut FilterStats,
+    ) -> (FilterState, Cov) {
+        let c = &self.config;
+        let r = SMatrix::<f64, 6, 6>::from_diagonal(&SMatrix::<f64, 6, 1>::from_fn(|i, _| {
+            if i < 3 {
+                c.pose_position_noise.powi(2)
+            } else {
+                c.pose_angle_noise.powi(2)
+            }
+        }));
+        let mut h = SMatrix::<f64, 6, { crate::state::N }>::zeros();
+        h.fixed_view_mut::<6, 6>(0, 0).fill_with_identity();
+        let nu = pose_residual(&x.body, y, q);
+        let s = h * p * h.transpose() + r;
+        let Some(si) = s.try_inverse() else {
+            return (*x, *p);
+        };
+        if (nu.transpose() * si * nu)[0] > c.pose_gate {
+            stats.gated += 1;
+            return (*x, *p);
+        }
+        stats.used += 1;
+        let k = p * h.transpose() * si;
+        let delta: Delta = k * nu;
+        let cov = (Cov::identity() - k * h) * p;
+        (boxplus(x, &delta), 0.5 * (cov + cov.transpose()))
+    }
+}
+
+/// Rauch-Tung-Striebel backward pass in error-state form.
+fn smooth(steps: &[Step]) -> Vec<FilterState> {
+    let n = steps.len();
+    let mut out: Vec<FilterState> = steps.iter().map(|s| s.filtered).collect();
+    let Some(last) = steps.last() else { return out };
+    let mut next_cov = last.filtered_cov;
+    for k in (0..n.saturating_sub(1)).rev() {
+        let (Some(cur), Some(nxt), Some(&xs_next)) =
+            (steps.get(k), steps.get(k + 1), out.get(k + 1))
+        else {
+            break;
+        };
+        let Some(pp_inv) = nxt.predicted_cov.cholesky().map(|c| c.inverse()) else {
+            continue;
+        };
+        let gain = cur.filtered_cov * nxt.jacobian.transpose() * pp_inv;
+        let delta = gain * boxminus(&xs_next, &nxt.predicted);
+        let cov = cur.filtered_cov + gain * (next_cov - nxt.predicted_cov) * gain.transpose();
+        next_cov = 0.5 * (cov + cov.transpose());
+        if let Some(slot) = out.get_mut(k) {
+            *slot = boxplus(&cur.filtered, &delta);
+        }
+    }
+    out
+}

@@ -1,0 +1,400 @@
+//! The default fit (§6, improved): regularised linear least squares of
+//! alpha, beta and D directly on the reconstructed frames, in force space.
+//!
+//! Per frame k with dynamic pressure `q_k = ½ρ|V_k|²` and basis `E^i_k`:
+//! `F_k·E^i_k = q_k L² Σ_lm α^i_lm Y_lm(E_k)` (eqs. 5, 7) — three independent
+//! problems sharing one normal matrix — and
+//! `T_k = Σ_i E^i_k q_k L³ Σ_lm β^i_lm Y_lm(E_k) - ½ρL⁵ |Ω_k| D Ω_k` (eqs. 6, 8),
+//! one joint problem in (β, D). Smoothness: Tikhonov on the Dirichlet energy
+//! `Σ l(l+1) c_lm²`, scaled by the data. D is projected onto positive definite
+//! matrices and β refitted; `C_F(E)·E < 0` (no thrust, §5) is enforced on a
+//! dense direction grid by penalty rows.
+
+use crate::damping::{matrix, omega_map, positive_definite};
+use crate::forces::Sample;
+use crate::recording::TakeKind;
+use nalgebra::{DMatrix, DVector, Vector3};
+use omniad_core::basis::vector_basis;
+use omniad_core::sh::{coeff_count, evaluate, MAX_COEFFS};
+
+/// Settings of the least-squares fit.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LsqConfig {
+    /// SH degree N.
+    pub degree: usize,
+    /// Smoothing weight relative to the mean data weight per coefficient
+    /// (dimensionless; default 1e-3).
+    pub smoothing: f64,
+    /// Smallest allowed eigenvalue of D relative to its largest (default 1e-3).
+    pub damping_floor: f64,
+    /// Required margin of `-C_F(E)·E` (default 1e-3).
+    pub thrust_margin: f64,
+}
+
+impl Default for LsqConfig {
+    fn default() -> Self {
+        Self {
+            degree: 8,
+            smoothing: 1e-3,
+            damping_floor: 1e-3,
+            thrust_margin: 1e-3,
+        }
+    }
+}
+
+/// The fitted numbers (body frame, non-dimensional).
+#[derive(Clone, Debug, PartialEq)]
+pub struct RawModel {
+    /// `alpha[i][k]`, i = basis component, k = SH index.
+    pub alpha: [Vec<f64>; 3],
+    /// `beta[i][k]`.
+    pub beta: [Vec<f64>; 3],
+    /// `[d11, d22, d33, d12, d13, d23]`.
+    pub damping: [f64; 6],
+}
+
+/// Object constants the fit needs.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FitContext {
+    /// Air density ρ, kg/m³.
+    pub air_density: f64,
+    /// Reference length L, m.
+    pub reference_length: f64,
+    /// Unit pole Z.
+    pub pole: Vector3<f64>,
+}
+
+/// SH values `Y_lm(E)` and the basis at a unit direction.
+pub(crate) fn sh_and_basis(
+    degree: usize,
+    e: &Vector3<f64>,
+    pole: &Vector3<f64>,
+) -> (Vec<f64>, [Vector3<f64>; 3]) {
+    let mut y = [0.0; MAX_COEFFS];
+    let n = evaluate(degree, e, &mut y);
+    (y.get(..n).unwrap_or(&[]).to_vec(), vector_basis(e, pole))
+}
+
+fn roughness(degree: usize) -> Vec<f64> {
+    (0..=degree)
+        .flat_map(|l| std::iter::repeat_n((l * (l + 1)) as f64, 2 * l + 1))
+        .collect()
+}
+
+/// Adds `λ · scale · l(l+1)` (plus a tiny ridge) to the diagonal blocks of `ata`.
+fn regularise(ata: &mut DMatrix<f64>, blocks: usize, degree: usize, smoothing: f64) {
+    let n = coeff_count(degree);
+    let scale = (0..blocks * n).map(|i| ata[(i, i)]).sum::<f64>() / (blocks * n) as f64;
+    let scale = if scale > 0.0 { scale } else { 1.0 };
+    let rough = roughness(degree);
+    for b in 0..blocks {
+        for (k, r) in rough.iter().enumerate() {
+            ata[(b * n + k, b * n + k)] += scale * (smoothing * r + 1e-9);
+        }
+    }
+}
+
+fn solve(ata: &DMatrix<f64>, atb: &DVector<f64>) -> DVector<f64> {
+    match ata.clone().cholesky() {
+        Some(c) => c.solve(atb),
+        None => ata
+            .clone()
+            .lu()
+            .solve(atb)
+            .unwrap_or_else(|| DVector::zeros(atb.len())),
+    }
+}
+
+/// Frames the force fit uses: K1 (drops) when there are any, else all.
+fn force_frames(samples: &[Sample]) -> Vec<&Sample> {
+    let drops = samples
+        .iter()
+        .any(|s| s.use_force && s.kind == TakeKind::Drop);
+    samples
+        .iter()
+        .filter(|s| s.use_force && (!drops || s.kind == TakeKind::Drop) && s.velocity.norm() > 0.0)
+        .collect()
+}
+
+/// Fits alpha (force), enforcing no thrust.
+pub fn fit_force(samples: &[Sample], ctx: &FitContext, cfg: &LsqConfig) -> [Vec<f64>; 3] {
+    let n = coeff_count(cfg.degree);
+    let l2 = ctx.reference_length.powi(2);
+    let mut ata = DMatrix::<f64>::zeros(n, n);
+    let mut atb = [
+        DVector::<f64>::zeros(n),
+        DVector::zeros(n),
+        DVector::zeros(n),
+    ];
+    for s in force_frames(samples) {
+        let speed = s.velocity.norm();
+        let e = s.velocity / speed;
+        let (y, basis) = sh_and_basis(cfg.degree, &e, &ctx.pole);
+        let a = DVector::from_vec(y) * (0.5 * ctx.air_density * speed * speed * l2);
+        ata.ger(1.0, &a, &a, 1.0);
+        for (rhs, b) in atb.iter_mut().zip(&basis) {
+            rhs.axpy(s.force.dot(b), &a, 1.0);
+        }
+    }
+    regularise(&mut ata, 1, cfg.degree, cfg.smoothing);
+    let [b1, b2, b3] = atb;
+    let alpha1 = enforce_no_thrust(ata.clone(), b1, cfg);
+    [
+        alpha1,
+        solve(&ata, &b2).as_slice().to_vec(),
+        solve(&ata, &b3).as_slice().to_vec(),
+    ]
+}
+
+/// Solves for alpha^1 and adds penalty rows `Σ α¹_k Y_k(E) = -margin` at
+/// directions of a dense grid where `C_F(E)·E > -margin`, until none is left.
+fn enforce_no_thrust(mut ata: DMatrix<f64>, mut atb: DVector<f64>, cfg: &LsqConfig) -> Vec<f64> {
+    let grid = crate::fit_paper::sphere_grid(64, 32);
+    let ys: Vec<DVector<f64>> = grid
+        .iter()
+        .map(|(e, _)| DVector::from_vec(sh_and_basis(cfg.degree, e, e).0))
+        .collect();
+    let weight = (0..ata.nrows())
+        .map(|i| ata[(i, i)])
+        .fold(0.0, f64::max)
+        .max(1e-12)
+        * 10.0;
+    let mut x = solve(&ata, &atb);
+    for _ in 0..20 {
+        let mut violated = false;
+        for y in &ys {
+            if y.dot(&x) > -cfg.thrust_margin {
+                ata.ger(weight, y, y, 1.0);
+                atb.axpy(-cfg.thrust_margin * weight, y, 1.0);
+                violated = true;
+            }
+        }
+        if !violated {
+            break;
+        }
+        x = solve(&ata, &atb);
+    }
+    x.as_slice().to_vec()
+}
+
+/// Fits beta and D jointly on the frames that pass both stability tests.
+pub fn fit_torque(
+    samples: &[Sample],
+    ctx: &FitContext,
+    cfg: &LsqConfig,
+) -> ([Vec<f64>; 3], [f64; 6]) {
+    let n = coeff_count(cfg.degree);
+    let dim = 3 * n + 6;
+    let mut ata = DMatrix::<f64>::zeros(dim, dim);
+    let mut atb = DVector::<f64>::zeros(dim);
+    for s in samples.iter().filter(|s| s.use_torque) {
+        for row in torque_rows(s, ctx, cfg.degree) {
+            accumulate(&mut ata, &mut atb, n, &row);
+        }
+    }
+    regularise(&mut ata, 3, cfg.degree, cfg.smoothing);
+    let x = solve(&ata, &atb);
+    let raw: [f64; 6] = std::array::from_fn(|i| x[3 * n + i]);
+    let d = positive_definite(&matrix(&raw), 0.0);
+    let floor = cfg.damping_floor * d.symmetric_eigen().eigenvalues.max().max(1e-9);
+    let d = positive_definite(&matrix(&raw), floor);
+    let six = [
+        d[(0, 0)],
+        d[(1, 1)],
+        d[(2, 2)],
+        d[(0, 1)],
+        d[(0, 2)],
+        d[(1, 2)],
+    ];
+    // Refit beta with D fixed: move the damping term to the right-hand side.
+    let sub = ata.view((0, 0), (3 * n, 3 * n)).into_owned();
+    let cross = ata.view((0, 3 * n), (3 * n, 6)).into_owned();
+    let rhs = atb.rows(0, 3 * n).into_owned() - cross * DVector::from_row_slice(&six);
+    let beta = solve(&sub, &rhs);
+    (
+        std::array::from_fn(|i| beta.rows(i * n, n).as_slice().to_vec()),
+        six,
+    )
+}
+
+/// One torque equation: `target = sh · β^block + damp · d`.
+struct TorqueRow {
+    block: Option<usize>,
+    sh: Vec<f64>,
+    damp: [f64; 6],
+    target: f64,
+}
+
+/// The torque equations of one frame, in the basis `E^i` when `V != 0`
+/// (each row then touches one β block), else along the body axes.
+fn torque_rows(s: &Sample, ctx: &FitContext, degree: usize) -> Vec<TorqueRow> {
+    let l = ctx.reference_length;
+    let speed = s.velocity.norm();
+    let damp = omega_map(&s.angular_velocity)
+        * (-0.5 * ctx.air_density * l.powi(5) * s.angular_velocity.norm());
+    let row_of =
+        |axis: &Vector3<f64>| -> [f64; 6] { std::array::from_fn(|j| axis.dot(&damp.column(j))) };
+    if speed > 0.0 {
+        let (y, basis) = sh_and_basis(degree, &(s.velocity / speed), &ctx.pole);
+        let q = 0.5 * ctx.air_density * speed * speed * l.powi(3);
+        let sh: Vec<f64> = y.iter().map(|v| v * q).collect();
+        basis
+            .iter()
+            .enumerate()
+            .map(|(i, b)| TorqueRow {
+                block: Some(i),
+                sh: sh.clone(),
+                damp: row_of(b),
+                target: s.torque.dot(b),
+            })
+            .collect()
+    } else {
+        [Vector3::x(), Vector3::y(), Vector3::z()]
+            .iter()
+            .map(|b| TorqueRow {
+                block: None,
+                sh: Vec::new(),
+                damp: row_of(b),
+                target: s.torque.dot(b),
+            })
+            .collect()
+    }
+}
+
+/// Adds one sparse row to the normal equations.
+fn accumulate(ata: &mut DMatrix<f64>, atb: &mut DVector<f64>, n: usize, r: &TorqueRow) {
+    let d0 = 3 * n;
+    if let Some(b) = r.block {
+        let o = b * n;
+        for (i, yi) in r.sh.iter().enumerate() {
+            for (j, yj) in r.sh.iter().enumerate() {
+                ata[(o + i, o + j)] += yi * yj;
+            }
+            for (j, dj) in r.damp.iter().enumerate() {
+                ata[(o + i, d0 + j)] += yi * dj;
+                ata[(d0 + j, o + i)] += yi * dj;
+            }
+            atb[o + i] += yi * r.target;
+        }
+    }
+    for (i, di) in r.damp.iter().enumerate() {
+        for (j, dj) in r.damp.iter().enumerate() {
+            ata[(d0 + i, d0 + j)] += di * dj;
+        }
+        atb[d0 + i] += di * r.target;
+    }
+}
+
+/// The full least-squares fit.
+pub fn fit(samples: &[Sample], ctx: &FitContext, cfg: &LsqConfig) -> RawModel {
+    let alpha = fit_force(samples, ctx, cfg);
+    let (beta, damping) = fit_torque(samples, ctx, cfg);
+    RawModel {
+        alpha,
+        beta,
+        damping,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::rng::Rng;
+    use crate::synth::{truth_model, ObjectSpec, SynthObject};
+
+    /// Exact samples of a known model at random directions and spins.
+    pub(crate) fn samples(
+        model: &omniad_core::Coefficients<f64>,
+        n: usize,
+        kind: TakeKind,
+    ) -> Vec<Sample> {
+        let mut rng = Rng::new(3);
+        (0..n)
+            .map(|i| {
+                let velocity = rng.direction() * rng.range(2.0, 6.0);
+                let angular_velocity = rng.direction() * rng.range(0.0, 15.0);
+                let w = model.wrench(&velocity, &angular_velocity, 1.2);
+                Sample {
+                    take: 0,
+                    index: i,
+                    t: 0.0,
+                    kind,
+                    velocity,
+                    angular_velocity,
+                    force: w.force,
+                    torque: w.torque,
+                    use_force: true,
+                    use_torque: true,
+                }
+            })
+            .collect()
+    }
+
+    #[test]
+    fn recovers_a_known_model_from_exact_frames() {
+        let spec = ObjectSpec::of(SynthObject::Box);
+        let truth = truth_model(&spec, 6).expect("model");
+        let ctx = FitContext {
+            air_density: 1.2,
+            reference_length: truth.reference_length(),
+            pole: truth.pole(),
+        };
+        let frames = samples(&truth, 3000, TakeKind::Drop);
+        let raw = fit(
+            &frames,
+            &ctx,
+            &LsqConfig {
+                degree: 6,
+                smoothing: 1e-7,
+                ..LsqConfig::default()
+            },
+        );
+        let model = crate::model::with_raw(&truth, &raw).expect("model");
+        let (mut num, mut den) = (0.0, 0.0);
+        for e in crate::panel::fibonacci_sphere(200) {
+            let (a, b) = (
+                model.at_direction(&e).expect("dir"),
+                truth.at_direction(&e).expect("dir"),
+            );
+            num += (a.force - b.force).norm_squared() + (a.torque - b.torque).norm_squared();
+            den += b.force.norm_squared();
+        }
+        assert!(
+            (num / den).sqrt() < 0.02,
+            "relative error {}",
+            (num / den).sqrt()
+        );
+        assert!(
+            (model.damping() - truth.damping()).norm() < 0.05 * truth.damping().norm(),
+            "{} vs {}",
+            model.damping(),
+            truth.damping()
+        );
+    }
+
+    #[test]
+    fn never_fits_thrust() {
+        // Frames whose drag points along E (thrust) must not produce C_F·E >= 0.
+        let spec = ObjectSpec::of(SynthObject::Plate);
+        let truth = truth_model(&spec, 4).expect("model");
+        let ctx = FitContext {
+            air_density: 1.2,
+            reference_length: truth.reference_length(),
+            pole: truth.pole(),
+        };
+        let mut frames = samples(&truth, 500, TakeKind::Drop);
+        for s in &mut frames {
+            s.force = -s.force;
+        }
+        let cfg = LsqConfig {
+            degree: 4,
+            ..LsqConfig::default()
+        };
+        let alpha = fit_force(&frames, &ctx, &cfg);
+        for e in crate::panel::fibonacci_sphere(500) {
+            let (y, _) = sh_and_basis(4, &e, &ctx.pole);
+            let drag: f64 = y.iter().zip(&alpha[0]).map(|(a, b)| a * b).sum();
+            assert!(drag < 0.0, "C_F·E = {drag} at {e:?}");
+        }
+    }
+}

@@ -1,0 +1,56 @@
+//! Building a core [`Coefficients`] from fitted numbers, and the zero model
+//! of the first refinement iteration (§6: `A_0 = 0, B_0 = 0`).
+
+use crate::error::{Error, Result};
+use crate::fit_lsq::RawModel;
+use crate::recording::Object;
+use omniad_core::coefficients::MassProperties;
+use omniad_core::Coefficients;
+
+fn model_error(e: omniad_core::ModelError) -> Error {
+    Error::Data(format!("cannot build the coefficient model: {e}"))
+}
+
+/// The zero model of degree `degree` for `object`.
+pub fn zero_model(object: &Object, degree: u8) -> Result<Coefficients<f64>> {
+    let mut m =
+        Coefficients::zeros(degree, object.pole, object.reference_length).map_err(model_error)?;
+    let name: String = object
+        .name
+        .chars()
+        .scan(0, |n, c| {
+            *n += c.len_utf8();
+            (*n <= omniad_core::coefficients::NAME_CAPACITY).then_some(c)
+        })
+        .collect();
+    m.set_name(&name).map_err(model_error)?;
+    let i = object.inertia;
+    m.body = Some(MassProperties {
+        mass: object.mass,
+        inertia: [
+            i[(0, 0)],
+            i[(1, 1)],
+            i[(2, 2)],
+            i[(0, 1)],
+            i[(0, 2)],
+            i[(1, 2)],
+        ],
+    });
+    Ok(m)
+}
+
+/// `raw` written into a copy of `base` (degree, pole, L, name, body).
+pub fn with_raw(base: &Coefficients<f64>, raw: &RawModel) -> Result<Coefficients<f64>> {
+    let mut m = base.clone();
+    for i in 0..3 {
+        for (k, v) in raw.alpha[i].iter().enumerate().take(m.coeff_count()) {
+            m.set_alpha(i, k, *v).map_err(model_error)?;
+        }
+        for (k, v) in raw.beta[i].iter().enumerate().take(m.coeff_count()) {
+            m.set_beta(i, k, *v).map_err(model_error)?;
+        }
+    }
+    m.set_damping(&crate::damping::matrix(&raw.damping))
+        .map_err(model_error)?;
+    Ok(m)
+}

@@ -1,0 +1,431 @@
+//! The acquisition pipeline with iterative refinement (§6): reconstruct
+//! every take with the current model, reconstruct forces, fit, repeat.
+
+use crate::coverage;
+use crate::error::{Error, Result};
+use crate::filter::{Filter, FilterConfig, FilterStats, Smoothed};
+use crate::fit_lsq::{FitContext, LsqConfig};
+use crate::forces::{self, ForceStats, Sample};
+use crate::model::{with_raw, zero_model};
+use crate::process::Process;
+use crate::recording::RecordingSet;
+use crate::residuals::{frame_residuals, rms_dimensional, summary};
+use crate::tracks::Observation;
+use nalgebra::Vector3;
+use omniad_core::{Coefficients, Environment, RigidBody, State};
+use std::time::Instant;
+
+/// Fitting method.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Method {
+    /// Regularised least squares on the frames (default).
+    Lsq,
+    /// The paper's 3-NN grid interpolation and SH convolution.
+    Paper,
+}
+
+/// Pipeline settings.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FitConfig {
+    /// SH degree N (the paper uses 8).
+    pub degree: u8,
+    /// Method.
+    pub method: Method,
+    /// Refinement iterations (fit count; §6 uses 3).
+    pub iterations: usize,
+    /// Least-squares settings (degree is taken from `degree`).
+    pub lsq: LsqConfig,
+    /// Filter settings (pixel noise is taken from the camera).
+    pub filter: FilterConfig,
+    /// Lower bound of the refined process noise, as a fraction of the
+    /// no-model noise of [`initial_noise`] (default 0.1).
+    pub noise_floor: f64,
+}
+
+impl Default for FitConfig {
+    fn default() -> Self {
+        Self {
+            degree: 8,
+            method: Method::Lsq,
+            iterations: 3,
+            lsq: LsqConfig::default(),
+            filter: FilterConfig::default(),
+            noise_floor: 0.1,
+        }
+    }
+}
+
+/// Progress reporting (the CLI draws bars; tests ignore it).
+pub trait Progress {
+    /// A stage with `total` steps starts.
+    fn stage(&self, name: &str, total: usize);
+    /// One step of the current stage is done.
+    fn tick(&self);
+}
+
+/// No progress reporting.
+pub struct Silent;
+
+impl Progress for Silent {
+    fn stage(&self, _: &str, _: usize) {}
+    fn tick(&self) {}
+}
+
+/// Process noise of the filter (1 sigma per axis).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ProcessNoise {
+    /// White acceleration per step, m/s².
+    pub accel: f64,
+    /// White angular acceleration per step, rad/s².
+    pub angular_accel: f64,
+    /// Random walk of the unexplained force, N/√s.
+    pub force_walk: f64,
+    /// Random walk of the unexplained torque, N m/√s.
+    pub torque_walk: f64,
+}
+
+/// What one refinement iteration did.
+#[derive(Clone, Debug, PartialEq)]
+pub struct IterationReport {
+    /// Process noise the filter used.
+    pub noise: ProcessNoise,
+    /// Filter counts over all takes.
+    pub filter: FilterStats,
+    /// Stability-enforcement counts.
+    pub forces: ForceStats,
+    /// Non-dimensional RMS residuals (force, torque) of the fitted model.
+    pub residual: (f64, f64),
+    /// RMS residual force (N) and torque (N m).
+    pub residual_dimensional: (f64, f64),
+    /// Wall time, s.
+    pub seconds: f64,
+    /// The iteration's model was worse than the best and was not kept.
+    pub rejected: bool,
+}
+
+/// An iteration is rejected (see [`fit`]) when its force or torque residual
+/// or its count of gated marker rows exceeds the last kept iteration's by
+/// this factor (gated rows: plus 0.5 % of all rows), or when the filter had
+/// to restart more often.
+pub const REJECT_RATIO: f64 = 1.25;
+
+fn worse(new: &IterationReport, kept: &IterationReport) -> bool {
+    let rows = (new.filter.used + new.filter.gated) as f64;
+    let gated_limit = REJECT_RATIO * kept.filter.gated as f64 + 0.005 * rows;
+    let exceeds = |a: f64, b: f64| a.is_nan() || a > REJECT_RATIO * b;
+    exceeds(new.residual.0, kept.residual.0)
+        || exceeds(new.residual.1, kept.residual.1)
+        || new.filter.gated as f64 > gated_limit
+        || new.filter.restarts > kept.filter.restarts
+}
+
+/// Result of [`fit`].
+#[derive(Clone, Debug)]
+pub struct FitOutcome {
+    /// The fitted model, with provenance filled in.
+    pub model: Coefficients<f64>,
+    /// One report per iteration.
+    pub iterations: Vec<IterationReport>,
+    /// The last reconstruction, one per take.
+    pub reconstruction: Vec<Smoothed>,
+    /// The last iteration's frames.
+    pub samples: Vec<Sample>,
+}
+
+/// The environment of a set (no wind).
+pub fn environment(set: &RecordingSet) -> Environment<f64> {
+    Environment {
+        gravity: set.world.gravity,
+        air_density: set.world.air_density,
+        wind: Vector3::zeros(),
+    }
+}
+
+/// Scales of the object: a gravity-sized force `M|g|`, the torque of that
+/// force at `L/2`, and the time `τ = sqrt(L/|g|)` to fall through one
+/// reference length from rest (the time scale of the air's wrench changing).
+fn scales(set: &RecordingSet) -> (f64, f64, f64) {
+    let g = set.world.gravity.norm().max(1.0);
+    let l = set.object.reference_length;
+    let force = set.object.mass * g;
+    (force, 0.5 * force * l, (l / g).sqrt())
+}
+
+/// Process noise with no aerodynamic model: the unexplained wrench may
+/// change by its full scale over `τ`; white noise of 10 % of the scales.
+pub fn initial_noise(set: &RecordingSet) -> ProcessNoise {
+    let (force, torque, tau) = scales(set);
+    let i_max = set.object.inertia.symmetric_eigen().eigenvalues.max();
+    ProcessNoise {
+        accel: 0.1 * force / set.object.mass,
+        angular_accel: 0.1 * torque / i_max,
+        force_walk: force / tau.sqrt(),
+        torque_walk: torque / tau.sqrt(),
+    }
+}
+
+fn initial_state(
+    epochs: &[crate::tracks::Epoch],
+    guess: Option<(Vector3<f64>, nalgebra::UnitQuaternion<f64>)>,
+) -> Result<State<f64>> {
+    if let Some((p, q)) = guess {
+        return Ok(State {
+            position: p,
+            orientation: q,
+            velocity: Vector3::zeros(),
+            angular_velocity: Vector3::zeros(),
+        });
+    }
+    match (epochs.first(), epochs.get(1)) {
+        (Some(a), Some(b)) => match (&a.observation, &b.observation) {
+            (Observation::Pose(y0, q0), Observation::Pose(y1, q1)) => {
+                let dt = b.t - a.t;
+                let w = (q0.inverse() * q1).scaled_axis() / dt;
+                Ok(State {
+                    position: *y0,
+                    orientation: *q0,
+                    velocity: (y1 - y0) / dt,
+                    angular_velocity: w,
+                })
+            }
+            _ => Err(Error::Data("a marker take needs an initial guess".into())),
+        },
+        _ => Err(Error::Data("a take needs at least two epochs".into())),
+    }
+}
+
+/// Smooths every take with `model` and `noise`.
+pub fn reconstruct(
+    set: &RecordingSet,
+    model: &Coefficients<f64>,
+    noise: ProcessNoise,
+    cfg: &FilterConfig,
+    progress: &dyn Progress,
+) -> Result<Vec<Smoothed>> {
+    let body = RigidBody::new(set.object.mass, set.object.inertia)
+        .map_err(|e| Error::Data(format!("object: {e}")))?;
+    let mut config = cfg.clone();
+    if let Some(c) = &set.camera {
+        config.pixel_noise = c.pixel_noise;
+    }
+    let process = Process {
+        body,
+        environment: environment(set),
+        model,
+        accel_noise: noise.accel,
+        angular_accel_noise: noise.angular_accel,
+        force_walk: noise.force_walk,
+        torque_walk: noise.torque_walk,
+    };
+    let (force, torque, _) = scales(set);
+    config.initial_bias = [force, torque];
+    let filter = Filter {
+        process,
+        object: &set.object,
+        camera: set.camera.as_ref(),
+        config,
+    };
+    let mut out = Vec::with_capacity(set.takes.len());
+    for take in &set.takes {
+        let initial = initial_state(&take.epochs, take.initial)
+            .map_err(|e| Error::Data(format!("take {}: {e}", take.name)))?;
+        out.push(filter.run(&take.epochs, initial));
+        progress.tick();
+    }
+    Ok(out)
+}
+
+/// Eqs. (9)-(10) on every take.
+pub fn samples(set: &RecordingSet, smoothed: &[Smoothed], stats: &mut ForceStats) -> Vec<Sample> {
+    let mut out = Vec::new();
+    for (i, (take, s)) in set.takes.iter().zip(smoothed).enumerate() {
+        out.extend(forces::reconstruct(
+            i,
+            take.kind,
+            s,
+            &set.object,
+            &set.world.gravity,
+            stats,
+        ));
+    }
+    out
+}
+
+/// Fits the model of the samples.
+pub fn fit_samples(
+    base: &Coefficients<f64>,
+    samples: &[Sample],
+    set: &RecordingSet,
+    cfg: &FitConfig,
+) -> Result<Coefficients<f64>> {
+    let ctx = FitContext {
+        air_density: set.world.air_density,
+        reference_length: set.object.reference_length,
+        pole: set.object.pole,
+    };
+    let degree = usize::from(cfg.degree);
+    let raw = match cfg.method {
+        Method::Lsq => crate::fit_lsq::fit(
+            samples,
+            &ctx,
+            &LsqConfig {
+                degree,
+                ..cfg.lsq.clone()
+            },
+        ),
+        Method::Paper => crate::fit_paper::fit(samples, &ctx, degree),
+    };
+    with_raw(base, &raw)
+}
+
+/// The next iteration's process noise: the bias walks scaled to the fit's
+/// RMS residual wrench (clamped between `floor` and 1 times the no-model
+/// walks); the white noise is kept.
+fn next_noise(
+    set: &RecordingSet,
+    first: ProcessNoise,
+    rms: (f64, f64),
+    floor: f64,
+) -> ProcessNoise {
+    let (_, _, tau) = scales(set);
+    ProcessNoise {
+        force_walk: (rms.0 / tau.sqrt()).clamp(floor * first.force_walk, first.force_walk),
+        torque_walk: (rms.1 / tau.sqrt()).clamp(floor * first.torque_walk, first.torque_walk),
+        ..first
+    }
+}
+
+/// The whole pipeline: `cfg.iterations` rounds of reconstruct-and-fit.
+pub fn fit(set: &RecordingSet, cfg: &FitConfig, progress: &dyn Progress) -> Result<FitOutcome> {
+    if cfg.iterations == 0 {
+        return Err(Error::Data("at least one iteration is needed".into()));
+    }
+    let base = zero_model(&set.object, cfg.degree)?;
+    let mut model = base.clone();
+    let first = initial_noise(set);
+    let mut noise = first;
+    let mut iterations: Vec<IterationReport> = Vec::with_capacity(cfg.iterations);
+    let mut best: Option<(Coefficients<f64>, Vec<Smoothed>, Vec<Sample>)> = None;
+    for it in 0..cfg.iterations {
+        let start = Instant::now();
+        progress.stage(
+            &format!("iteration {}/{}: filter + smoother", it + 1, cfg.iterations),
+            set.takes.len(),
+        );
+        let smoothed = reconstruct(set, &model, noise, &cfg.filter, progress)?;
+        let mut fstats = ForceStats::default();
+        let frames = samples(set, &smoothed, &mut fstats);
+        if !frames.iter().any(|s| s.use_force) {
+            return Err(Error::Data(
+                "no usable frames: every frame failed the stability tests".into(),
+            ));
+        }
+        progress.stage(&format!("iteration {}/{}: fit", it + 1, cfg.iterations), 1);
+        let fitted = fit_samples(&base, &frames, set, cfg)?;
+        progress.tick();
+        let res = frame_residuals(&fitted, &frames, set.world.air_density);
+        let mut report = IterationReport {
+            noise,
+            filter: total_stats(&smoothed),
+            forces: fstats,
+            residual: summary(&res),
+            residual_dimensional: rms_dimensional(&res),
+            seconds: start.elapsed().as_secs_f64(),
+            rejected: false,
+        };
+        // Refinement must not make things worse: a model whose filter run
+        // fits clearly worse than the best so far is rejected and the
+        // refinement stops (the filter went astray with it).
+        if let Some(b) = iterations.iter().rfind(|r| !r.rejected) {
+            if worse(&report, b) {
+                report.rejected = true;
+                iterations.push(report);
+                break;
+            }
+        }
+        noise = next_noise(set, first, report.residual_dimensional, cfg.noise_floor);
+        model = fitted.clone();
+        best = Some((fitted, smoothed, frames));
+        iterations.push(report);
+    }
+    let Some((mut model, reconstruction, samples)) = best else {
+        return Err(Error::Data("no iteration produced a model".into()));
+    };
+    fill_provenance(&mut model, set, cfg, &iterations, &samples)?;
+    Ok(FitOutcome {
+        model,
+        iterations,
+        reconstruction,
+        samples,
+    })
+}
+
+fn total_stats(smoothed: &[Smoothed]) -> FilterStats {
+    smoothed
+        .iter()
+        .fold(FilterStats::default(), |a, s| FilterStats {
+            used: a.used + s.stats.used,
+            gated: a.gated + s.stats.gated,
+            empty_frames: a.empty_frames + s.stats.empty_frames,
+            unprojectable: a.unprojectable + s.stats.unprojectable,
+            restarts: a.restarts + s.stats.restarts,
+        })
+}
+
+/// The noise the filter should use after `outcome` (for a final reconstruction).
+pub fn final_noise(set: &RecordingSet, outcome: &FitOutcome, cfg: &FitConfig) -> ProcessNoise {
+    let first = initial_noise(set);
+    outcome
+        .iterations
+        .iter()
+        .rfind(|r| !r.rejected)
+        .map(|r| next_noise(set, first, r.residual_dimensional, cfg.noise_floor))
+        .unwrap_or(first)
+}
+
+fn truncated<const N: usize>(s: &str) -> heapless::String<N> {
+    let mut out = heapless::String::new();
+    for c in s.chars() {
+        if out.push(c).is_err() {
+            break;
+        }
+    }
+    out
+}
+
+fn fill_provenance(
+    model: &mut Coefficients<f64>,
+    set: &RecordingSet,
+    cfg: &FitConfig,
+    its: &[IterationReport],
+    samples: &[Sample],
+) -> Result<()> {
+    let p = &mut model.provenance;
+    p.method = truncated(match cfg.method {
+        Method::Lsq => "fit-lsq",
+        Method::Paper => "fit-paper",
+    });
+    p.source = truncated(&set.root.display().to_string());
+    let used = samples.iter().filter(|s| s.use_force).count();
+    p.frames_used = u32::try_from(used).unwrap_or(u32::MAX);
+    p.frames_dropped = u32::try_from(samples.len() - used).unwrap_or(u32::MAX);
+    for r in its
+        .iter()
+        .rev()
+        .take(omniad_core::coefficients::MAX_ITERATIONS)
+        .rev()
+    {
+        let _ = p.force_residuals.push(r.residual.0);
+        let _ = p.torque_residuals.push(r.residual.1);
+    }
+    let dirs = samples
+        .iter()
+        .filter(|s| s.use_force && s.velocity.norm() > 0.0)
+        .map(|s| s.velocity.normalize());
+    for c in coverage::histogram(&set.object.pole, dirs) {
+        p.coverage
+            .push(c)
+            .map_err(|_| Error::Data("coverage grid size".into()))?;
+    }
+    Ok(())
+}

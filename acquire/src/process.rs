@@ -1,0 +1,105 @@
+//! The filter's process model f(s) (§4.3, §5): one RK4 step of eqs. (1)-(2)
+//! with the OmniAD air model (eqs. 5-6) plus the random-walk bias wrench of
+//! [`FilterState`], its Jacobian in error-state coordinates, and the
+//! process noise.
+
+use crate::state::{boxminus, boxplus, Cov, Delta, FilterState, N};
+use nalgebra::{Matrix3, SMatrix, Vector3};
+use omniad_core::integrate::rk4_step;
+use omniad_core::rigid_body::Forces;
+use omniad_core::{Coefficients, Environment, RigidBody, State, Wrench};
+
+/// Step of the finite-difference process Jacobian (error-state units).
+const FD_STEP: f64 = 1e-6;
+
+/// The physics the filter predicts with.
+pub struct Process<'a> {
+    /// Mass properties.
+    pub body: RigidBody<f64>,
+    /// Gravity, air density, wind.
+    pub environment: Environment<f64>,
+    /// Current OmniAD model (zero in the first refinement iteration, §6).
+    pub model: &'a Coefficients<f64>,
+    /// Per-step white acceleration noise, 1 sigma per world axis, m/s².
+    pub accel_noise: f64,
+    /// Per-step white angular acceleration noise, 1 sigma per body axis, rad/s².
+    pub angular_accel_noise: f64,
+    /// Bias force random walk, 1 sigma per body axis per √s, N/√s.
+    pub force_walk: f64,
+    /// Bias torque random walk, 1 sigma per body axis per √s, N m/√s.
+    pub torque_walk: f64,
+}
+
+/// The OmniAD wrench plus a constant body-frame bias.
+struct Biased<'a> {
+    model: &'a Coefficients<f64>,
+    environment: Environment<f64>,
+    force: Vector3<f64>,
+    torque: Vector3<f64>,
+}
+
+impl Forces<f64> for Biased<'_> {
+    fn wrench(&self, _t: f64, s: &State<f64>) -> Wrench<f64> {
+        let v = s.air_velocity_body(&self.environment.wind);
+        let w = self
+            .model
+            .wrench(&v, &s.angular_velocity, self.environment.air_density);
+        Wrench {
+            force: w.force + self.force,
+            torque: w.torque + self.torque,
+        }
+    }
+}
+
+impl Process<'_> {
+    /// `s_{k+1} = f(s_k)` over `dt` seconds (the bias is held).
+    pub fn step(&self, s: &FilterState, dt: f64) -> FilterState {
+        let forces = Biased {
+            model: self.model,
+            environment: self.environment,
+            force: s.force,
+            torque: s.torque,
+        };
+        FilterState {
+            body: rk4_step(&self.body, &self.environment, &forces, 0.0, dt, &s.body),
+            ..*s
+        }
+    }
+
+    /// The next state and the error-state Jacobian `F = ∂(f(s ⊕ δ) ⊖ f(s))/∂δ`
+    /// by forward differences (numerical: f is an RK4 step).
+    pub fn step_with_jacobian(&self, s: &FilterState, dt: f64) -> (FilterState, Cov) {
+        let next = self.step(s, dt);
+        let mut f = Cov::zeros();
+        for j in 0..N {
+            let mut d = Delta::zeros();
+            d[j] = FD_STEP;
+            let col = boxminus(&self.step(&boxplus(s, &d), dt), &next) / FD_STEP;
+            f.set_column(j, &col);
+        }
+        (next, f)
+    }
+
+    /// Discrete process noise for a step of `dt` s: piecewise-constant white
+    /// acceleration (`σ² G Gᵀ`, `G = [dt²/2, dt]`) and the bias random walk.
+    pub fn noise(&self, dt: f64) -> Cov {
+        let mut q = Cov::zeros();
+        let i3 = Matrix3::<f64>::identity();
+        let g = SMatrix::<f64, 2, 1>::new(0.5 * dt * dt, dt);
+        let gg = g * g.transpose();
+        for (pos, vel, sigma) in [(0, 6, self.accel_noise), (3, 9, self.angular_accel_noise)] {
+            let s2 = sigma * sigma;
+            for (a, ia) in [(0, pos), (1, vel)] {
+                for (b, ib) in [(0, pos), (1, vel)] {
+                    q.fixed_view_mut::<3, 3>(ia, ib)
+                        .copy_from(&(i3 * (gg[(a, b)] * s2)));
+                }
+            }
+        }
+        q.fixed_view_mut::<3, 3>(12, 12)
+            .copy_from(&(i3 * (self.force_walk.powi(2) * dt)));
+        q.fixed_view_mut::<3, 3>(15, 15)
+            .copy_from(&(i3 * (self.torque_walk.powi(2) * dt)));
+        q
+    }
+}

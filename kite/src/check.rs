@@ -1,0 +1,262 @@
+//! `kite check`: the static report of §7 — string tension from linear
+//! equilibrium (eq. 14), the attachment point on the eq. (16) line, the
+//! unbalanced torque (eq. 15), and stability from the eigen-decomposition
+//! of the symmetric part of `∂T_kite/∂Θ`.
+
+use crate::assemble::Design;
+use crate::spec::Attachment;
+use anyhow::{anyhow, Result};
+use nalgebra::{UnitQuaternion, Vector3};
+use omniad_core::kite::{stability, statics};
+use serde::Serialize;
+
+/// The overall static verdict.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Verdict {
+    /// String pulls down, all three axes stable, no overlap.
+    Stable,
+    /// String pulls down but at least one axis is unstable.
+    Unstable,
+    /// The string would have to pull upward (the kite cannot be held up by
+    /// the wind), or primitives overlap along the wind.
+    Unflyable,
+}
+
+/// One eigen-axis of the symmetric part of the Jacobian.
+#[derive(Clone, Debug, Serialize)]
+pub struct AxisReport {
+    /// Eigenvalue, N m/rad (negative: restoring).
+    pub eigenvalue: f64,
+    /// Unit axis, body frame.
+    pub axis: [f64; 3],
+    /// `eigenvalue < 0`.
+    pub stable: bool,
+}
+
+/// Everything `kite check` prints. Vectors are `[x, y, z]`; body frame
+/// unless the name says `world`. SI units.
+#[derive(Clone, Debug, Serialize)]
+pub struct CheckReport {
+    /// Kite name.
+    pub name: String,
+    /// Wind speed, m/s (world +x).
+    pub wind_speed: f64,
+    /// Mass, kg.
+    pub mass: f64,
+    /// Centre of mass, design frame, m.
+    pub center_of_mass: [f64; 3],
+    /// Orientation R as a rotation vector (axis × angle), rad.
+    pub orientation: [f64; 3],
+    /// `f_string`, world frame, N (eq. 14).
+    pub tension_world: [f64; 3],
+    /// `F_string = Rᵀ f_string`, N.
+    pub tension_body: [f64; 3],
+    /// `|f_string|`, N.
+    pub tension: f64,
+    /// Elevation of the kite above the anchor along the string, degrees.
+    pub line_elevation_deg: f64,
+    /// `f_string · g > 0`.
+    pub pulls_down: bool,
+    /// Air force `Σ Q_p F_p`, N.
+    pub air_force: [f64; 3],
+    /// `T_air`, N m.
+    pub air_torque: [f64; 3],
+    /// γ of eq. (16), m/N.
+    pub gamma: f64,
+    /// The same as a distance along the string from the line's foot, m.
+    pub attachment_offset: f64,
+    /// Attachment point P, body frame (from the centre of mass), m.
+    pub attachment: [f64; 3],
+    /// `T_kite` at P, N m (eq. 15).
+    pub unbalanced_torque: [f64; 3],
+    /// `|T_kite|`, N m.
+    pub unbalanced_torque_norm: f64,
+    /// Axes of `(J + Jᵀ)/2`, eigenvalues ascending.
+    pub axes: Vec<AxisReport>,
+    /// `J = ∂T_kite/∂Θ`, rows, N m/rad.
+    pub jacobian: [[f64; 3]; 3],
+    /// Primitive pairs overlapping along the wind.
+    pub overlaps: Vec<[String; 2]>,
+    /// Beyond the paper (diagnostic, not part of the verdict): growth rate
+    /// of the fastest linearised rotational mode, 1/s (see `modes`).
+    pub rotational_growth_rate: f64,
+    /// Verdict.
+    pub verdict: Verdict,
+    /// Why, in words.
+    pub reasons: Vec<String>,
+}
+
+/// P in the body frame for the file's attachment setting at orientation R.
+pub fn attachment_point(
+    design: &Design,
+    wind: Option<f64>,
+    r: &UnitQuaternion<f64>,
+) -> Result<Vector3<f64>> {
+    let prims = design.primitives();
+    let kite = design.kite(&prims);
+    let eq = statics::equilibrium(&kite, &design.conditions(wind), r)
+        .map_err(|e| anyhow!("equilibrium: {e}"))?;
+    let gamma = match design.spec.attachment() {
+        Attachment::Gamma(g) => g,
+        Attachment::Offset(d) => {
+            statics::gamma_for_distance(&eq, d).map_err(|e| anyhow!("string: {e}"))?
+        }
+    };
+    statics::attachment_point(&eq, gamma).map_err(|e| anyhow!("string: {e}"))
+}
+
+/// The static report at orientation `r` with the string at `attachment`
+/// (body frame; `None`: the file's γ/offset on the eq. 16 line at `r`).
+pub fn check_at(
+    design: &Design,
+    wind: Option<f64>,
+    r: &UnitQuaternion<f64>,
+    attachment: Option<Vector3<f64>>,
+) -> Result<CheckReport> {
+    let prims = design.primitives();
+    let kite = design.kite(&prims);
+    let cond = design.conditions(wind);
+    let eq = statics::equilibrium(&kite, &cond, r).map_err(|e| anyhow!("equilibrium: {e}"))?;
+    let p = match attachment {
+        Some(p) => p,
+        None => attachment_point(design, wind, r)?,
+    };
+    let f = eq.string_body;
+    let foot = eq.air.torque.cross(&f) / f.norm_squared().max(f64::MIN_POSITIVE);
+    let offset = (p - foot).dot(&f) / f.norm().max(f64::MIN_POSITIVE);
+    let gamma = offset / f.norm().max(f64::MIN_POSITIVE);
+    let torque = statics::unbalanced_torque(&eq, &p);
+    let st = stability::stability(&kite, &cond, r, &p).map_err(|e| anyhow!("stability: {e}"))?;
+    let overlaps: Vec<[String; 2]> = design
+        .overlaps(r)
+        .into_iter()
+        .map(|(a, b)| [a, b])
+        .collect();
+    let axes: Vec<AxisReport> = st
+        .axes
+        .iter()
+        .map(|a| AxisReport {
+            eigenvalue: a.eigenvalue,
+            axis: a.axis.into(),
+            stable: a.stable,
+        })
+        .collect();
+    let (verdict, mut reasons) = verdict(eq.pulls_down, &axes, &overlaps);
+    if torque.norm() > 1e-3 {
+        reasons.push(format!(
+            "unbalanced torque {:.4} N m remains (its part along the string cannot be cancelled by the attachment point): the kite will turn to its trim (see `kite trim`)",
+            torque.norm()
+        ));
+    }
+    let dir = eq.string_world.normalize();
+    Ok(CheckReport {
+        name: design.spec.name.clone(),
+        wind_speed: cond.wind.norm(),
+        mass: design.mass.mass,
+        center_of_mass: design.mass.center.into(),
+        orientation: r.scaled_axis().into(),
+        tension_world: eq.string_world.into(),
+        tension_body: f.into(),
+        tension: f.norm(),
+        line_elevation_deg: (-dir.z).asin().to_degrees(),
+        pulls_down: eq.pulls_down,
+        air_force: eq.air.force.into(),
+        air_torque: eq.air.torque.into(),
+        gamma,
+        attachment_offset: offset,
+        attachment: p.into(),
+        unbalanced_torque: torque.into(),
+        unbalanced_torque_norm: torque.norm(),
+        axes,
+        jacobian: [0, 1, 2].map(|i| [0, 1, 2].map(|j| st.jacobian[(i, j)])),
+        overlaps,
+        rotational_growth_rate: crate::modes::max_growth_rate(design, wind, r, &p)?,
+        verdict,
+        reasons,
+    })
+}
+
+/// The file's orientation and attachment.
+pub fn check(design: &Design, wind: Option<f64>) -> Result<CheckReport> {
+    check_at(design, wind, &design.orientation(), None)
+}
+
+fn verdict(
+    pulls_down: bool,
+    axes: &[AxisReport],
+    overlaps: &[[String; 2]],
+) -> (Verdict, Vec<String>) {
+    let mut reasons = Vec::new();
+    for [a, b] in overlaps {
+        reasons.push(format!("{a} and {b} overlap along the wind"));
+    }
+    if !pulls_down {
+        reasons.push("the string would have to pull upward (f_string · g <= 0)".into());
+    }
+    for a in axes.iter().filter(|a| !a.stable) {
+        reasons.push(format!(
+            "unstable about axis [{:.2}, {:.2}, {:.2}] (eigenvalue {:+.4} N m/rad)",
+            a.axis[0], a.axis[1], a.axis[2], a.eigenvalue
+        ));
+    }
+    let v = if !pulls_down || !overlaps.is_empty() {
+        Verdict::Unflyable
+    } else if axes.iter().any(|a| !a.stable) {
+        Verdict::Unstable
+    } else {
+        Verdict::Stable
+    };
+    (v, reasons)
+}
+
+/// Human-readable report.
+pub fn render(r: &CheckReport) -> String {
+    let v = |x: &[f64; 3]| format!("[{:+.4}, {:+.4}, {:+.4}]", x[0], x[1], x[2]);
+    let mut s = format!(
+        "kite {:?}: wind {:.2} m/s, mass {:.1} g\n",
+        r.name,
+        r.wind_speed,
+        r.mass * 1e3
+    );
+    s += &format!(
+        "  string tension (world)  {} N  |f| = {:.3} N, line elevation {:.1} deg, pulls down: {}\n",
+        v(&r.tension_world),
+        r.tension,
+        r.line_elevation_deg,
+        r.pulls_down
+    );
+    s += &format!(
+        "  air force (body)        {} N\n  air torque T_air        {} N m\n",
+        v(&r.air_force),
+        v(&r.air_torque)
+    );
+    s += &format!(
+        "  attachment P            {} m  (gamma {:.5} m/N, offset {:+.3} m)\n",
+        v(&r.attachment),
+        r.gamma,
+        r.attachment_offset
+    );
+    s += &format!(
+        "  unbalanced torque       {} N m  |T| = {:.2e}\n",
+        v(&r.unbalanced_torque),
+        r.unbalanced_torque_norm
+    );
+    for a in &r.axes {
+        s += &format!(
+            "  axis {}  eigenvalue {:+.5} N m/rad  {}\n",
+            v(&a.axis),
+            a.eigenvalue,
+            if a.stable { "stable" } else { "UNSTABLE" }
+        );
+    }
+    s += &format!("  verdict: {:?}\n", r.verdict);
+    for reason in &r.reasons {
+        s += &format!("    - {reason}\n");
+    }
+    s += &format!(
+        "  (diagnostic, beyond the paper) fastest rotational mode grows at {:+.3} 1/s\n",
+        r.rotational_growth_rate
+    );
+    s
+}

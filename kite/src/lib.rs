@@ -1,0 +1,31 @@
+//! # omniad-kite: KiteShop (paper §7)
+//!
+//! * [`spec`]: the TOML kite file; [`geometry`], [`joints`], [`mass`]:
+//!   rods, coverings, sockets, mass properties.
+//! * [`library`]: primitive examples and their inverse-distance blending.
+//! * [`assemble`]: a file turned into primitives for the core statics
+//!   (`omniad_core::kite`).
+//! * [`check`], [`trimming`]: the static report and trim search.
+//! * [`wind`], [`flight`]: gusty wind and the tethered flight simulation.
+//! * [`export`]: OpenSCAD sockets, cut list, SVG three-view drawing.
+
+// `!(x > 0.0)` deliberately rejects NaN as well as non-positive values.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
+pub mod assemble;
+pub mod check;
+pub mod export;
+pub mod flight;
+pub mod generate;
+pub mod geometry;
+pub mod joints;
+pub mod library;
+pub mod mass;
+pub mod modes;
+pub mod spec;
+pub mod trimming;
+pub mod wind;
+
+pub use assemble::Design;
+pub use library::Library;
+pub use spec::KiteSpec;

@@ -1,0 +1,346 @@
+//! The kite file (TOML): what a designer writes. See `data/kites/README.md`
+//! for the documented format. Parsing rejects unknown fields; validation
+//! names the offending field (`primitive[1].size`, `string.gamma`, ...).
+
+use anyhow::{bail, Context, Result};
+use serde::Deserialize;
+use std::path::{Path, PathBuf};
+
+/// A whole kite file.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct KiteSpec {
+    /// Short name.
+    pub name: String,
+    /// Free text.
+    #[serde(default)]
+    pub description: String,
+    /// Wind and air.
+    #[serde(default)]
+    pub wind: WindSpec,
+    /// String attachment.
+    #[serde(default)]
+    pub string: StringSpec,
+    /// Rod and covering materials.
+    #[serde(default)]
+    pub materials: Materials,
+    /// The kite's orientation R in the wind (body -> world; world x is
+    /// downwind, z up): rotations about x, then y, then z, degrees.
+    #[serde(default)]
+    pub orientation: [f64; 3],
+    /// The primitives.
+    #[serde(default, rename = "primitive")]
+    pub primitives: Vec<PrimitiveSpec>,
+    /// Extra rods (spars, longerons), besides each primitive's own frame.
+    #[serde(default, rename = "rod")]
+    pub rods: Vec<RodSpec>,
+}
+
+/// `[wind]`.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct WindSpec {
+    /// Mean wind speed along world +x, m/s.
+    #[serde(default = "default_speed")]
+    pub speed: f64,
+    /// Air density ρ, kg/m³.
+    #[serde(default = "default_density")]
+    pub air_density: f64,
+}
+
+impl Default for WindSpec {
+    fn default() -> Self {
+        Self {
+            speed: default_speed(),
+            air_density: default_density(),
+        }
+    }
+}
+
+fn default_speed() -> f64 {
+    5.0
+}
+fn default_density() -> f64 {
+    1.2
+}
+
+/// `[string]`: where the string is attached, on the line of eq. (16).
+/// Give at most one of `gamma` and `offset`; neither means `offset = 0`.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct StringSpec {
+    /// γ of eq. (16), m/N.
+    pub gamma: Option<f64>,
+    /// The same as a distance along the string direction from the line's
+    /// foot point, m (`γ |F_string|`); positive is towards the anchor.
+    pub offset: Option<f64>,
+    /// Line length for the flight simulation, m.
+    #[serde(default = "default_line")]
+    pub length: f64,
+}
+
+impl Default for StringSpec {
+    fn default() -> Self {
+        Self {
+            gamma: None,
+            offset: None,
+            length: default_line(),
+        }
+    }
+}
+
+fn default_line() -> f64 {
+    20.0
+}
+
+/// `[materials]`.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Materials {
+    /// Default rod diameter, m (carbon rod, 2 mm as in the paper).
+    #[serde(default = "default_rod_diameter")]
+    pub rod_diameter: f64,
+    /// Rod material density, kg/m³ (carbon fibre: 1600).
+    #[serde(default = "default_rod_density")]
+    pub rod_density: f64,
+    /// Covering areal density, kg/m² (kitchen plastic wrap: about 0.011).
+    #[serde(default = "default_covering")]
+    pub covering_density: f64,
+    /// Mass of one printed socket, kg.
+    #[serde(default = "default_socket")]
+    pub socket_mass: f64,
+}
+
+impl Default for Materials {
+    fn default() -> Self {
+        Self {
+            rod_diameter: default_rod_diameter(),
+            rod_density: default_rod_density(),
+            covering_density: default_covering(),
+            socket_mass: default_socket(),
+        }
+    }
+}
+
+fn default_rod_diameter() -> f64 {
+    0.002
+}
+fn default_rod_density() -> f64 {
+    1600.0
+}
+fn default_covering() -> f64 {
+    0.011
+}
+fn default_socket() -> f64 {
+    0.002
+}
+
+/// Kind of primitive.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Kind {
+    /// Cuboid open on its two y faces (a kite cell).
+    Box,
+    /// A covered rectangle in the x-y plane (`l_z = 0`).
+    Plate,
+    /// Any fitted `.omni` object (e.g. the foam heart).
+    Object,
+}
+
+/// `[[primitive]]`.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PrimitiveSpec {
+    /// Name (unique), used in reports and the cut list.
+    pub name: String,
+    /// `box`, `plate` or `object`.
+    pub kind: Kind,
+    /// `[l_x, l_y, l_z]`, m: y is the open axis of a box, x the longer
+    /// edge of its closed face (`l_x >= l_z`); a plate has `l_z = 0`; an
+    /// object gives its bounding box (for drawings and the overlap test).
+    pub size: [f64; 3],
+    /// Centre, design (body) frame, m.
+    #[serde(default)]
+    pub position: [f64; 3],
+    /// Q_p: rotations about x, then y, then z (fixed axes), degrees.
+    #[serde(default)]
+    pub rotation: [f64; 3],
+    /// Objects only: the `.omni` file, relative to the kite file.
+    pub file: Option<PathBuf>,
+    /// Objects only: mass, kg (else the file's mass properties).
+    pub mass: Option<f64>,
+    /// Boxes and plates: build the edges from rods (default true).
+    #[serde(default = "yes")]
+    pub frame: bool,
+}
+
+fn yes() -> bool {
+    true
+}
+
+/// `[[rod]]`: a straight rod between two points (design frame, m).
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RodSpec {
+    /// One end, m.
+    pub from: [f64; 3],
+    /// Other end, m.
+    pub to: [f64; 3],
+    /// Diameter, m (default `materials.rod_diameter`).
+    pub diameter: Option<f64>,
+}
+
+impl KiteSpec {
+    /// Reads and validates a kite file; errors name the file and field.
+    pub fn load(path: &Path) -> Result<Self> {
+        let text = std::fs::read_to_string(path)
+            .with_context(|| format!("cannot read kite file {}", path.display()))?;
+        Self::parse(&text).with_context(|| format!("in kite file {}", path.display()))
+    }
+
+    /// Parses and validates TOML text.
+    pub fn parse(text: &str) -> Result<Self> {
+        let spec: KiteSpec = toml::from_str(text).context("invalid kite TOML")?;
+        spec.validate()?;
+        Ok(spec)
+    }
+
+    /// Checks every number; the error names the field.
+    pub fn validate(&self) -> Result<()> {
+        positive("wind.speed", self.wind.speed)?;
+        positive("wind.air_density", self.wind.air_density)?;
+        positive("string.length", self.string.length)?;
+        if self.string.gamma.is_some() && self.string.offset.is_some() {
+            bail!("string: give `gamma` or `offset`, not both");
+        }
+        finite("string.gamma", self.string.gamma.unwrap_or(0.0))?;
+        finite("string.offset", self.string.offset.unwrap_or(0.0))?;
+        positive("materials.rod_diameter", self.materials.rod_diameter)?;
+        positive("materials.rod_density", self.materials.rod_density)?;
+        non_negative(
+            "materials.covering_density",
+            self.materials.covering_density,
+        )?;
+        non_negative("materials.socket_mass", self.materials.socket_mass)?;
+        all_finite("orientation", &self.orientation)?;
+        if self.primitives.is_empty() {
+            bail!("primitive: a kite needs at least one [[primitive]]");
+        }
+        for (i, p) in self.primitives.iter().enumerate() {
+            p.validate(&format!("primitive[{i}]"))?;
+            if self.primitives.iter().take(i).any(|q| q.name == p.name) {
+                bail!("primitive[{i}].name: duplicate name {:?}", p.name);
+            }
+        }
+        for (i, r) in self.rods.iter().enumerate() {
+            all_finite(&format!("rod[{i}].from"), &r.from)?;
+            all_finite(&format!("rod[{i}].to"), &r.to)?;
+            let len: f64 = (0..3)
+                .map(|k| (r.to[k] - r.from[k]).powi(2))
+                .sum::<f64>()
+                .sqrt();
+            if len < 1e-3 {
+                bail!("rod[{i}]: `from` and `to` are the same point");
+            }
+            if let Some(d) = r.diameter {
+                positive(&format!("rod[{i}].diameter"), d)?;
+            }
+        }
+        Ok(())
+    }
+
+    /// γ (m/N) or offset (m) as given; `(None, None)` means offset 0.
+    pub fn attachment(&self) -> Attachment {
+        match (self.string.gamma, self.string.offset) {
+            (Some(g), _) => Attachment::Gamma(g),
+            (None, Some(d)) => Attachment::Offset(d),
+            (None, None) => Attachment::Offset(0.0),
+        }
+    }
+}
+
+/// How the attachment point on the eq. (16) line is given.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Attachment {
+    /// γ, m/N.
+    Gamma(f64),
+    /// Distance along the string direction from the foot point, m.
+    Offset(f64),
+}
+
+impl PrimitiveSpec {
+    fn validate(&self, at: &str) -> Result<()> {
+        if self.name.trim().is_empty() {
+            bail!("{at}.name: must not be empty");
+        }
+        all_finite(&format!("{at}.position"), &self.position)?;
+        all_finite(&format!("{at}.rotation"), &self.rotation)?;
+        all_finite(&format!("{at}.size"), &self.size)?;
+        let [lx, ly, lz] = self.size;
+        let field = format!("{at}.size");
+        match self.kind {
+            Kind::Box => {
+                if !(lx > 0.0 && ly > 0.0 && lz > 0.0) {
+                    bail!(
+                        "{field}: a box needs l_x, l_y, l_z > 0 (got {:?})",
+                        self.size
+                    );
+                }
+                if lz > lx {
+                    bail!("{field}: l_x must be >= l_z (x is the longer edge of the closed face); rotate the box 90 degrees about y instead");
+                }
+            }
+            Kind::Plate => {
+                if !(lx > 0.0 && ly > 0.0) || lz != 0.0 {
+                    bail!(
+                        "{field}: a plate needs l_x, l_y > 0 and l_z = 0 (got {:?})",
+                        self.size
+                    );
+                }
+            }
+            Kind::Object => {
+                if !(lx >= 0.0 && ly >= 0.0 && lz >= 0.0) {
+                    bail!("{field}: sizes must be >= 0 (got {:?})", self.size);
+                }
+                if self.file.is_none() {
+                    bail!("{at}.file: an object primitive needs the .omni file");
+                }
+                if let Some(m) = self.mass {
+                    positive(&format!("{at}.mass"), m)?;
+                }
+            }
+        }
+        if self.kind != Kind::Object && (self.file.is_some() || self.mass.is_some()) {
+            bail!("{at}: `file` and `mass` are only for kind = \"object\"");
+        }
+        Ok(())
+    }
+}
+
+fn finite(field: &str, x: f64) -> Result<()> {
+    if !x.is_finite() {
+        bail!("{field}: must be a finite number (got {x})");
+    }
+    Ok(())
+}
+
+fn positive(field: &str, x: f64) -> Result<()> {
+    if !(x.is_finite() && x > 0.0) {
+        bail!("{field}: must be a positive number (got {x})");
+    }
+    Ok(())
+}
+
+fn non_negative(field: &str, x: f64) -> Result<()> {
+    if !(x.is_finite() && x >= 0.0) {
+        bail!("{field}: must be zero or positive (got {x})");
+    }
+    Ok(())
+}
+
+fn all_finite(field: &str, xs: &[f64]) -> Result<()> {
+    if xs.iter().any(|x| !x.is_finite()) {
+        bail!("{field}: every component must be finite (got {xs:?})");
+    }
+    Ok(())
+}

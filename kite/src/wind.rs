@@ -1,0 +1,98 @@
+//! Gusty wind: a seeded, spatially uniform turbulence model.
+//!
+//! `v_wind(t) = U x̂ + Σ_k a_k cos(2π f_k t + φ_k)` per component, with
+//! 48 frequencies log-spaced over 0.01-5 Hz, amplitudes following the
+//! Dryden-shaped spectrum `S(f) ∝ 1/(1 + (2π f Λ/U)²)` (length scale
+//! `Λ` = 30 m), and random phases φ_k from a SplitMix64 generator seeded
+//! by the user. Amplitudes are normalised so that the standard deviations
+//! are `σ_u = G`, `σ_v = 0.8 G`, `σ_w = 0.5 G` (along-wind, crosswind,
+//! vertical; the usual near-ground ratios), `G` the gust strength, m/s.
+//! A pure function of time, so RK4 stages see a consistent wind.
+
+use nalgebra::Vector3;
+
+/// Number of sinusoids per component.
+pub const MODES: usize = 48;
+/// Turbulence length scale Λ, m.
+pub const LENGTH_SCALE: f64 = 30.0;
+/// Component standard deviations relative to G.
+pub const RATIOS: [f64; 3] = [1.0, 0.8, 0.5];
+
+/// SplitMix64: a small, well-mixed 64-bit generator.
+#[derive(Clone, Debug)]
+pub struct SplitMix64(u64);
+
+impl SplitMix64 {
+    /// Seeded generator.
+    pub fn new(seed: u64) -> Self {
+        Self(seed)
+    }
+    /// Next 64 random bits.
+    pub fn next_u64(&mut self) -> u64 {
+        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^ (z >> 31)
+    }
+    /// Uniform in [0, 1).
+    pub fn uniform(&mut self) -> f64 {
+        (self.next_u64() >> 11) as f64 / (1u64 << 53) as f64
+    }
+}
+
+/// The wind field.
+#[derive(Clone, Debug)]
+pub struct Wind {
+    /// Mean wind, world frame, m/s.
+    pub mean: Vector3<f64>,
+    /// Per component: `(amplitude m/s, frequency Hz, phase rad)`.
+    modes: [Vec<(f64, f64, f64)>; 3],
+}
+
+impl Wind {
+    /// Mean `speed` (m/s) along +x with gusts of strength `gust` (m/s).
+    pub fn new(speed: f64, gust: f64, seed: u64) -> Self {
+        let mut rng = SplitMix64::new(seed);
+        let (lo, hi) = (0.01f64, 5.0f64);
+        let ratio = (hi / lo).powf(1.0 / (MODES - 1) as f64);
+        let modes = RATIOS.map(|r| {
+            let sigma = gust * r;
+            let mut m: Vec<(f64, f64, f64)> = (0..MODES)
+                .map(|k| {
+                    let f = lo * ratio.powi(k as i32);
+                    let df = f * (ratio - 1.0);
+                    let s = 1.0
+                        / (1.0
+                            + (2.0 * std::f64::consts::PI * f * LENGTH_SCALE / speed.max(0.1))
+                                .powi(2));
+                    (
+                        (s * df).sqrt(),
+                        f,
+                        rng.uniform() * 2.0 * std::f64::consts::PI,
+                    )
+                })
+                .collect();
+            // Variance of Σ a cos(...) is Σ a²/2.
+            let var: f64 = m.iter().map(|(a, _, _)| a * a / 2.0).sum();
+            let scale = if var > 0.0 { sigma / var.sqrt() } else { 0.0 };
+            m.iter_mut().for_each(|mode| mode.0 *= scale);
+            m
+        });
+        Self {
+            mean: Vector3::new(speed, 0.0, 0.0),
+            modes,
+        }
+    }
+
+    /// Wind velocity at time `t` (s), world frame, m/s.
+    pub fn at(&self, t: f64) -> Vector3<f64> {
+        let tau = 2.0 * std::f64::consts::PI * t;
+        let g = self.modes.each_ref().map(|m| {
+            m.iter()
+                .map(|(a, f, p)| a * (tau * f + p).cos())
+                .sum::<f64>()
+        });
+        self.mean + Vector3::from(g)
+    }
+}

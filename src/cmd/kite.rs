@@ -1,0 +1,166 @@
+//! `omniad kite ...`: KiteShop (paper §7) — static check, trim, tethered
+//! flight, fabrication export. The work is in the `omniad-kite` crate.
+
+use anyhow::Result;
+use clap::{Args, Subcommand};
+use omniad_kite::{Design, Library};
+use std::path::{Path, PathBuf};
+
+/// `omniad kite` subcommands.
+#[derive(Subcommand, Debug)]
+pub enum KiteCommand {
+    /// Static equilibrium and stability (tension, unbalanced torque,
+    /// attachment point, eigen-axes, verdict).
+    Check(CheckArgs),
+    /// Orientation at which the kite balances with the file's attachment
+    /// point (zero unbalanced torque), and its stability there.
+    Trim(TrimArgs),
+    /// Tethered flight in gusty wind (RK4); outcome flies / unsettled /
+    /// crashes.
+    Fly(FlyArgs),
+    /// OpenSCAD sockets for every rod joint, a cut list, an SVG drawing.
+    Export(ExportArgs),
+}
+
+/// Options shared by every kite command.
+#[derive(Args, Debug)]
+pub struct Common {
+    /// Kite file (TOML; see data/kites/README.md).
+    pub file: PathBuf,
+    /// Primitive library directory (default: $OMNIAD_PRIMITIVES or the
+    /// repository's data/primitives).
+    #[arg(long)]
+    pub primitives: Option<PathBuf>,
+}
+
+/// `omniad kite check`.
+#[derive(Args, Debug)]
+pub struct CheckArgs {
+    #[command(flatten)]
+    pub common: Common,
+    /// Wind speed, m/s (default: the file's).
+    #[arg(long)]
+    pub wind: Option<f64>,
+    /// Print JSON.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// `omniad kite trim`.
+#[derive(Args, Debug)]
+pub struct TrimArgs {
+    #[command(flatten)]
+    pub common: Common,
+    /// Wind speed, m/s (default: the file's).
+    #[arg(long)]
+    pub wind: Option<f64>,
+    /// Print JSON.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// `omniad kite fly`.
+#[derive(Args, Debug)]
+pub struct FlyArgs {
+    #[command(flatten)]
+    pub common: Common,
+    /// Simulated time, s.
+    #[arg(long, default_value_t = 60.0)]
+    pub seconds: f64,
+    /// Gust strength G: standard deviation of the along-wind gust, m/s.
+    #[arg(long, default_value_t = 1.0)]
+    pub gust: f64,
+    /// Turbulence seed.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Mean wind speed, m/s (default: the file's).
+    #[arg(long)]
+    pub wind: Option<f64>,
+    /// Print JSON.
+    #[arg(long)]
+    pub json: bool,
+    /// Write the trace (every 0.05 s) as CSV.
+    #[arg(long)]
+    pub csv: Option<PathBuf>,
+}
+
+/// `omniad kite export`.
+#[derive(Args, Debug)]
+pub struct ExportArgs {
+    #[command(flatten)]
+    pub common: Common,
+    /// Output directory.
+    #[arg(short = 'o', long = "output")]
+    pub output: PathBuf,
+}
+
+fn load(common: &Common) -> Result<Design> {
+    let dir = common
+        .primitives
+        .clone()
+        .unwrap_or_else(omniad_kite::library::default_dir);
+    let library = Library::load(&dir)?;
+    Design::load(Path::new(&common.file), &library)
+}
+
+/// Runs a kite subcommand.
+pub fn run(command: &KiteCommand) -> Result<()> {
+    match command {
+        KiteCommand::Check(a) => {
+            let design = load(&a.common)?;
+            let report = omniad_kite::check::check(&design, a.wind)?;
+            if a.json {
+                println!("{}", serde_json::to_string_pretty(&report)?);
+            } else {
+                print!("{}", omniad_kite::check::render(&report));
+            }
+            Ok(())
+        }
+        KiteCommand::Trim(a) => {
+            let design = load(&a.common)?;
+            let report = omniad_kite::trimming::trim(&design, a.wind)?;
+            if a.json {
+                println!("{}", serde_json::to_string_pretty(&report)?);
+            } else {
+                print!("{}", omniad_kite::trimming::render(&report));
+            }
+            Ok(())
+        }
+        KiteCommand::Fly(a) => fly(a),
+        KiteCommand::Export(a) => {
+            let design = load(&a.common)?;
+            for path in omniad_kite::export::export(&design, &a.output)? {
+                println!("wrote {}", path.display());
+            }
+            Ok(())
+        }
+    }
+}
+
+fn fly(a: &FlyArgs) -> Result<()> {
+    if !(a.seconds.is_finite() && a.seconds > 0.0) {
+        anyhow::bail!("--seconds must be a positive number (got {})", a.seconds);
+    }
+    if !(a.gust.is_finite() && a.gust >= 0.0) {
+        anyhow::bail!("--gust must be zero or positive (got {})", a.gust);
+    }
+    let design = load(&a.common)?;
+    let opts = omniad_kite::flight::FlightOptions {
+        seconds: a.seconds,
+        gust: a.gust,
+        seed: a.seed,
+        wind: a.wind,
+        ..Default::default()
+    };
+    let report = omniad_kite::flight::fly(&design, &opts)?;
+    if let Some(path) = &a.csv {
+        std::fs::write(path, omniad_kite::flight::trace_csv(&report))
+            .map_err(|e| anyhow::anyhow!("cannot write {}: {e}", path.display()))?;
+    }
+    if a.json {
+        println!("{}", serde_json::to_string_pretty(&report)?);
+    } else {
+        println!("{}", omniad_kite::flight::render(&report));
+    }
+    Ok(())
+}

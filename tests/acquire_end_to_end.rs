@@ -1,0 +1,105 @@
+//! End to end (issue 3): `omniad synth` a set from the known plate model,
+//! `omniad fit` it back, `omniad reconstruct` it, and check the fitted
+//! C_F, the states, and the JSON report against the set's `truth/`.
+
+use nalgebra::{Quaternion, UnitQuaternion, Vector3};
+use omniad_acquire::truth::{force_error, read_coefficients, read_states};
+use std::path::Path;
+use std::process::Command;
+
+fn omniad(args: &[&str]) -> String {
+    let out = Command::new(env!("CARGO_BIN_EXE_omniad"))
+        .args(args)
+        .output()
+        .expect("run omniad");
+    assert!(
+        out.status.success(),
+        "omniad {args:?} failed: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    String::from_utf8_lossy(&out.stdout).into_owned()
+}
+
+/// Body-frame air-velocity directions of every truth frame (no wind).
+fn truth_directions(dir: &Path, takes: &[String]) -> Vec<Vector3<f64>> {
+    let mut out = Vec::new();
+    for t in takes {
+        for r in read_states(&dir.join("truth").join(format!("{t}.csv"))).expect("truth") {
+            let q = UnitQuaternion::from_quaternion(Quaternion::new(r[4], r[5], r[6], r[7]));
+            let v = q.inverse_transform_vector(&Vector3::new(r[8], r[9], r[10]));
+            if v.norm() > 1.0 {
+                out.push(v.normalize());
+            }
+        }
+    }
+    out
+}
+
+#[test]
+fn synth_fit_reconstruct_round_trip() {
+    let tmp = tempfile::tempdir().expect("tempdir");
+    let set = tmp.path().join("plate");
+    let set_s = set.to_str().expect("utf-8 path");
+    omniad(&["synth", set_s, "--object", "plate", "--seed", "3"]);
+    let takes: Vec<String> = (1..=13)
+        .map(|i| format!("{}-{i:02}", if i > 8 { "spin" } else { "drop" }))
+        .collect();
+
+    let model_path = tmp.path().join("plate.omni");
+    let json = omniad(&[
+        "fit",
+        set_s,
+        "-o",
+        model_path.to_str().expect("utf-8"),
+        "--json",
+    ]);
+    let report: serde_json::Value = serde_json::from_str(&json).expect("JSON report");
+    let its = report["iterations"].as_array().expect("iterations");
+    assert_eq!(its.len(), 3);
+    assert!(its.iter().all(|i| i["force_residual"]
+        .as_f64()
+        .is_some_and(|r| r.is_finite() && r > 0.0)));
+    assert!(report["coverage"]["cells_covered"].as_u64().expect("cells") > 50);
+    assert!(report["frames"]["used"].as_u64().expect("used") > 500);
+
+    let bytes = std::fs::read(&model_path).expect("model file");
+    let model = omniad_core::file::decode::<f64>(&bytes).expect("decodes");
+    assert_eq!(model.provenance.force_residuals.len(), 3);
+    assert_eq!(model.provenance.coverage.len(), 512);
+    let truth = read_coefficients(&set.join("truth/coefficients.csv")).expect("coefficients");
+    let (err, n) = force_error(
+        &model,
+        &truth,
+        &truth_directions(&set, &takes),
+        20,
+        15f64.to_radians(),
+    );
+    assert!(n > 50, "only {n} well-covered directions");
+    assert!(
+        err <= 0.08,
+        "C_F relative L2 error {:.2} % over {n} directions",
+        err * 100.0
+    );
+
+    let rec = tmp.path().join("rec");
+    omniad(&["reconstruct", set_s, "-o", rec.to_str().expect("utf-8")]);
+    let (mut pos, mut ang, mut count) = (0.0, 0.0, 0usize);
+    for t in &takes {
+        let est = read_states(&rec.join(format!("{t}.csv"))).expect("reconstruction");
+        let tru = read_states(&set.join("truth").join(format!("{t}.csv"))).expect("truth");
+        for (a, b) in est.iter().zip(&tru) {
+            assert!((a[0] - b[0]).abs() < 1e-6);
+            let qa = UnitQuaternion::from_quaternion(Quaternion::new(a[4], a[5], a[6], a[7]));
+            let qb = UnitQuaternion::from_quaternion(Quaternion::new(b[4], b[5], b[6], b[7]));
+            pos += (Vector3::new(a[1], a[2], a[3]) - Vector3::new(b[1], b[2], b[3])).norm_squared();
+            ang += qa.angle_to(&qb).powi(2);
+            count += 1;
+        }
+    }
+    let (pos, ang) = (
+        (pos / count as f64).sqrt(),
+        (ang / count as f64).sqrt().to_degrees(),
+    );
+    assert!(pos <= 0.03, "position RMS {:.2} cm", pos * 100.0);
+    assert!(ang <= 3.0, "orientation RMS {ang:.2} deg");
+}

@@ -1,0 +1,117 @@
+//! The pipeline on bad input: format errors name file and line/field;
+//! outlier rows are gated and counted; hidden markers and empty frames are
+//! tolerated.
+
+use omniad_acquire::pipeline::{self, FitConfig, Silent};
+use omniad_acquire::recording::RecordingSet;
+use omniad_acquire::synth::{SynthConfig, SynthObject};
+use omniad_acquire::synth_write::generate;
+use omniad_acquire::truth::{read_states, state_error, StateError};
+
+fn small_set(dir: &std::path::Path, outliers: f64) {
+    let cfg = SynthConfig {
+        object: SynthObject::Plate,
+        seed: 5,
+        takes: (3, 1),
+        outliers,
+        dropout: 0.1,
+        ..SynthConfig::default()
+    };
+    generate(dir, &cfg).expect("synth");
+}
+
+/// Position (m) and orientation (deg) RMS of a fit's last reconstruction.
+fn fit_errors(dir: &std::path::Path) -> (f64, f64, omniad_acquire::filter::FilterStats) {
+    let set = RecordingSet::load(dir).expect("load");
+    let out = pipeline::fit(
+        &set,
+        &FitConfig {
+            iterations: 2,
+            ..FitConfig::default()
+        },
+        &Silent,
+    )
+    .expect("fit");
+    let mut total = StateError::default();
+    for (t, s) in set.takes.iter().zip(&out.reconstruction) {
+        total.add(&state_error(
+            s,
+            &read_states(&dir.join("truth").join(format!("{}.csv", t.name))).expect("truth"),
+        ));
+    }
+    let stats = out
+        .iterations
+        .iter()
+        .rfind(|r| !r.rejected)
+        .expect("kept iteration")
+        .filter;
+    (total.position_rms(), total.angle_rms().to_degrees(), stats)
+}
+
+#[test]
+fn outliers_are_gated_and_counted() {
+    let clean = tempfile::tempdir().expect("tempdir");
+    small_set(clean.path(), 0.0);
+    let dirty = tempfile::tempdir().expect("tempdir");
+    small_set(dirty.path(), 0.03);
+    // Empty frame: remove every row of frame 20 of the first take.
+    let take = dirty.path().join("drop-01.csv");
+    let text = std::fs::read_to_string(&take).expect("take");
+    let kept: String = text
+        .lines()
+        .filter(|l| !l.starts_with("20,"))
+        .map(|l| format!("{l}\n"))
+        .collect();
+    std::fs::write(&take, kept).expect("write");
+    let (p0, a0, s0) = fit_errors(clean.path());
+    let (p1, a1, s1) = fit_errors(dirty.path());
+    assert!(s0.gated < 5, "clean set gated {}", s0.gated);
+    assert!(s1.gated > 20, "gated only {}", s1.gated);
+    assert!(s1.empty_frames >= 1);
+    // Same trajectories and noise: the outliers must cost little accuracy.
+    assert!(
+        p1 < 1.5 * p0 + 0.01,
+        "position RMS {p1:.3} m with outliers, {p0:.3} m without"
+    );
+    assert!(
+        a1 < 1.5 * a0 + 0.5,
+        "orientation RMS {a1:.2} deg with outliers, {a0:.2} deg without"
+    );
+}
+
+fn error_of(dir: &std::path::Path) -> String {
+    RecordingSet::load(dir).expect_err("must fail").to_string()
+}
+
+#[test]
+fn format_errors_name_file_and_place() {
+    let tmp = tempfile::tempdir().expect("tempdir");
+    small_set(tmp.path(), 0.0);
+    let toml_path = tmp.path().join("recording.toml");
+    let toml = std::fs::read_to_string(&toml_path).expect("toml");
+
+    std::fs::write(&toml_path, toml.replace("mass = 0.048", "mass = -1.0")).expect("write");
+    let e = error_of(tmp.path());
+    assert!(
+        e.contains("recording.toml") && e.contains("object.mass"),
+        "{e}"
+    );
+
+    std::fs::write(&toml_path, toml.replace("fx = 1100", "fx = \"wide\"")).expect("write");
+    let e = error_of(tmp.path());
+    assert!(e.contains("recording.toml") && e.contains("fx"), "{e}");
+
+    std::fs::write(&toml_path, &toml).expect("write");
+    let take = tmp.path().join("drop-02.csv");
+    let text = std::fs::read_to_string(&take).expect("take");
+    let mut lines: Vec<String> = text.lines().map(str::to_owned).collect();
+    lines[3] = "2,m0,abc,5".into();
+    std::fs::write(&take, lines.join("\n")).expect("write");
+    let e = error_of(tmp.path());
+    assert!(e.contains("drop-02.csv:4") && e.contains("`u`"), "{e}");
+
+    lines[3] = "2,nosuch,1,5".into();
+    std::fs::write(&take, lines.join("\n")).expect("write");
+    let e = error_of(tmp.path());
+    assert!(e.contains("drop-02.csv:4") && e.contains("nosuch"), "{e}");
+}

@@ -1,0 +1,215 @@
+//! Drawing the kite design view: primitive list, the selected
+//! primitive's numbers, equilibrium numbers and the eigenvalue bars.
+
+use super::design::Analysis;
+use super::drawing::{render_drawing, Projection};
+use super::{KiteView, Tool};
+use crate::theme::Theme;
+use nalgebra::Vector3;
+use ratatui::buffer::Buffer;
+use ratatui::layout::{Constraint, Layout, Rect};
+use ratatui::style::Style;
+use ratatui::text::{Line, Span};
+use ratatui::widgets::{Block, Paragraph, Widget, Wrap};
+
+/// The kite view as a widget.
+pub struct KiteWidget<'a> {
+    /// State.
+    pub view: &'a KiteView,
+    /// Look.
+    pub theme: Theme,
+}
+
+impl Widget for KiteWidget<'_> {
+    fn render(self, area: Rect, buf: &mut Buffer) {
+        let (v, theme) = (self.view, self.theme);
+        let [left, right] =
+            Layout::horizontal([Constraint::Percentage(45), Constraint::Percentage(55)])
+                .areas(area);
+        let rows = (v.design.parts.len() as u16 + 2).clamp(3, 10);
+        let [list, detail, side] = Layout::vertical([
+            Constraint::Length(rows),
+            Constraint::Length(7),
+            Constraint::Fill(1),
+        ])
+        .areas(left);
+        render_list(v, theme, list, buf);
+        render_detail(v, theme, detail, buf);
+        render_drawing(v, Projection::Side, theme, side, buf);
+        let [eq, eig, top] = Layout::vertical([
+            Constraint::Length(9),
+            Constraint::Length(8),
+            Constraint::Fill(1),
+        ])
+        .areas(right);
+        match &v.analysis {
+            Ok(a) => {
+                render_equilibrium(v, a, theme, eq, buf);
+                render_eigen(a, theme, eig, buf);
+            }
+            Err(e) => Paragraph::new(format!("no equilibrium: {e}"))
+                .wrap(Wrap { trim: true })
+                .block(Block::bordered().title(" equilibrium "))
+                .render(eq.union(eig), buf),
+        }
+        render_drawing(v, Projection::Top, theme, top, buf);
+    }
+}
+
+fn v3(v: &Vector3<f64>, prec: usize) -> String {
+    format!("({:+.p$} {:+.p$} {:+.p$})", v.x, v.y, v.z, p = prec)
+}
+
+fn render_list(v: &KiteView, theme: Theme, area: Rect, buf: &mut Buffer) {
+    let title = format!(" {} · primitives ", v.design.name);
+    let mut lines = Vec::new();
+    for (i, p) in v.design.parts.iter().enumerate() {
+        let sel = i == v.selected;
+        let mark = if sel { "▶ " } else { "  " };
+        let [a, b, c] = p.size;
+        let text = format!(
+            "{mark}{:<8} {:<5} {a:.2}×{b:.2}×{c:.2}",
+            p.name,
+            p.kind.name()
+        );
+        lines.push(Line::styled(
+            text,
+            if sel { theme.selected() } else { Style::new() },
+        ));
+    }
+    let skip = v
+        .selected
+        .saturating_sub(area.height.saturating_sub(3) as usize);
+    Paragraph::new(lines)
+        .scroll((skip as u16, 0))
+        .block(Block::bordered().title(Line::styled(title, theme.title())))
+        .render(area, buf);
+}
+
+fn render_detail(v: &KiteView, theme: Theme, area: Rect, buf: &mut Buffer) {
+    let Some(p) = v.design.parts.get(v.selected) else {
+        return;
+    };
+    let row = |label: &'static str, t: Tool, a: &[f64; 3], unit: &'static str| {
+        let mut spans = vec![Span::styled(format!("{label:<4}"), theme.dim())];
+        for (i, x) in a.iter().enumerate() {
+            let active = v.tool == t && v.axis == i;
+            let st = if active {
+                theme.selected()
+            } else {
+                Style::new()
+            };
+            spans.push(Span::styled(format!(" {}{x:+.2}", ["x", "y", "z"][i]), st));
+        }
+        spans.push(Span::styled(format!(" {unit}"), theme.dim()));
+        Line::from(spans)
+    };
+    let lines = vec![
+        row("pos", Tool::Move, &p.position, "m"),
+        row("rot", Tool::Rotate, &p.rotation, "°"),
+        row("size", Tool::Scale, &p.size, "m"),
+        Line::from(vec![
+            Span::styled("tool ", theme.dim()),
+            Span::styled(v.tool.name(), theme.title()),
+            Span::styled(
+                format!(" axis {}", ["x", "y", "z"][v.axis.min(2)]),
+                theme.title(),
+            ),
+        ]),
+        Line::styled(v.message.clone(), theme.dim()),
+    ];
+    Paragraph::new(lines)
+        .block(Block::bordered().title(Line::styled(format!(" {} ", p.name), theme.title())))
+        .render(area, buf);
+}
+
+fn render_equilibrium(v: &KiteView, a: &Analysis, theme: Theme, area: Rect, buf: &mut Buffer) {
+    let d = &v.design;
+    let (ok, bad) = (theme.good(), theme.bad());
+    let pulls = if a.pulls_down {
+        Span::styled("✓ pulls down", ok)
+    } else {
+        Span::styled("✗ does not pull down", bad)
+    };
+    let lines = vec![
+        Line::raw(format!(
+            "wind {:.1} m/s  ρ {:.2}  pitch {:+.0}°  M {:.1} g",
+            d.wind_speed,
+            d.air_density,
+            d.orientation[1],
+            a.mass * 1000.0
+        )),
+        Line::from(vec![
+            Span::raw(format!("tension {} N ", v3(&a.tension, 2))),
+            pulls,
+        ]),
+        Line::raw(format!("|T| {:.3} N", a.tension.norm())),
+        Line::raw(format!("torque {} N·m", v3(&a.torque, 4))),
+        Line::raw(format!("attach P {} m", v3(&a.attachment, 3))),
+        Line::raw(format!("γ {:.4} m/N  offset {:+.2} m", a.gamma, d.offset)),
+    ];
+    Paragraph::new(lines)
+        .wrap(Wrap { trim: true })
+        .block(Block::bordered().title(Line::styled(" equilibrium ", theme.title())))
+        .render(area, buf);
+}
+
+/// One eigenvalue as a bar about zero: `◀====|` stable (negative, blue),
+/// `|####▶` unstable (positive, red).
+pub fn eigen_bar(value: f64, scale: f64, half: usize) -> String {
+    let n = if scale > 0.0 {
+        ((value.abs() / scale) * half as f64).ceil() as usize
+    } else {
+        0
+    };
+    let n = n.min(half);
+    if value < 0.0 {
+        format!(
+            "{}◀{}|{}",
+            " ".repeat(half - n),
+            "=".repeat(n),
+            " ".repeat(half + 1)
+        )
+    } else {
+        format!(
+            "{}|{}▶{}",
+            " ".repeat(half + 1),
+            "#".repeat(n),
+            " ".repeat(half - n)
+        )
+    }
+}
+
+fn render_eigen(a: &Analysis, theme: Theme, area: Rect, buf: &mut Buffer) {
+    let scale = a.axes.iter().map(|x| x.0.abs()).fold(0.0, f64::max);
+    let half = (area.width.saturating_sub(30) / 2).clamp(2, 20) as usize;
+    let mut lines = Vec::new();
+    for (i, (val, axis)) in a.axes.iter().enumerate() {
+        let (st, verdict) = if *val < 0.0 {
+            (theme.good(), "✓ stable")
+        } else {
+            (theme.bad(), "✗ UNSTABLE")
+        };
+        lines.push(Line::from(vec![
+            Span::raw(format!("λ{} {val:+.4} ", i + 1)),
+            Span::styled(eigen_bar(*val, scale, half), st),
+            Span::styled(verdict, st),
+        ]));
+        lines.push(Line::styled(
+            format!("   axis {}", v3(axis, 2)),
+            theme.dim(),
+        ));
+    }
+    let all = a.axes.iter().all(|x| x.0 < 0.0);
+    let title = if all {
+        " stability N·m/rad: stable "
+    } else {
+        " stability N·m/rad: unstable "
+    };
+    Paragraph::new(lines)
+        .block(Block::bordered().title(Line::styled(
+            title,
+            if all { theme.good() } else { theme.bad() },
+        )))
+        .render(area, buf);
+}

@@ -1,0 +1,172 @@
+//! Bundled models: the default plate, an isotropic-drag comparison model,
+//! and loading `.omni` files.
+
+use nalgebra::Vector3;
+use omniad_core::basis::vector_basis;
+use omniad_core::coefficients::MassProperties;
+use omniad_core::{sh, Coefficients};
+use std::f64::consts::PI;
+
+/// A named model shown by the views.
+#[derive(Clone, Debug)]
+pub struct Model {
+    /// Label (file name or built-in name).
+    pub label: String,
+    /// The coefficients.
+    pub coefficients: Coefficients<f64>,
+}
+
+/// Degree of the built-in plate projection.
+const PLATE_DEGREE: u8 = 6;
+/// Default body of the built-in plate: a 7 cm square card of 2 g.
+pub const PLATE_BODY: MassProperties = MassProperties {
+    mass: 0.002,
+    inertia: [8.2e-7, 8.2e-7, 1.63e-6, 0.0, 0.0, 0.0],
+};
+
+/// The bundled default coefficient file: the paper's foam plate.
+pub const BUNDLED_PLATE: &[u8] = include_bytes!("../../data/plate.omni");
+
+/// The default model: the bundled `data/plate.omni`, or the built-in
+/// projected plate should that ever fail to decode.
+pub fn default_model() -> Model {
+    match omniad_core::file::decode::<f64>(BUNDLED_PLATE) {
+        Ok(coefficients) => Model {
+            label: "plate.omni (bundled)".into(),
+            coefficients,
+        },
+        Err(_) => builtin_model(),
+    }
+}
+
+/// The built-in analytic plate projected onto SH (independent of any
+/// data file: used by tests and snapshots).
+pub fn builtin_model() -> Model {
+    Model {
+        label: "plate (built-in)".into(),
+        coefficients: demo_plate(),
+    }
+}
+
+/// Reads a `.omni` file.
+pub fn load(path: &str) -> Result<Model, String> {
+    let bytes = std::fs::read(path).map_err(|e| format!("cannot read {path}: {e}"))?;
+    let coefficients =
+        omniad_core::file::decode::<f64>(&bytes).map_err(|e| format!("{path}: {e}"))?;
+    let label = std::path::Path::new(path)
+        .file_name()
+        .map_or_else(|| path.to_string(), |n| n.to_string_lossy().into_owned());
+    Ok(Model {
+        label,
+        coefficients,
+    })
+}
+
+/// The drag-only comparison model: `C_F = -c E`, no torque, same L and
+/// body as `like`.
+pub fn isotropic_drag(like: &Coefficients<f64>, c: f64) -> Model {
+    let mut m = Coefficients::zeros(0, like.pole(), like.reference_length())
+        .unwrap_or_else(|_| unit_zeros(0));
+    let _ = m.set_alpha(0, 0, -c * (4.0 * PI).sqrt());
+    let _ = m.set_name("isotropic drag");
+    m.body = like.body;
+    m.set_damping(&like.damping()).ok();
+    Model {
+        label: "isotropic drag".into(),
+        coefficients: m,
+    }
+}
+
+fn unit_zeros(degree: u8) -> Coefficients<f64> {
+    // Degree <= 6 with a unit pole and a positive L is always valid.
+    Coefficients::zeros(degree, Vector3::z(), 0.1).expect("valid constant model")
+}
+
+/// The analytic flat plate (normal +z, reference length = diagonal) the
+/// built-in model is projected from: normal force `-0.6 (E·n) n`, skin
+/// friction `-0.03 E`, centre of pressure moving towards the leading edge.
+pub fn plate_analytic(e: &Vector3<f64>) -> (Vector3<f64>, Vector3<f64>) {
+    let n = Vector3::z();
+    let cn = e.dot(&n);
+    let force = n * (-0.6 * cn) - e * 0.03;
+    let lead = e - n * cn;
+    let torque = (lead * 0.15).cross(&force);
+    (force, torque)
+}
+
+/// The built-in plate: [`plate_analytic`] projected onto spherical
+/// harmonics of degree 6 (quadrature on a 48 x 96 grid).
+pub fn demo_plate() -> Coefficients<f64> {
+    let mut m = unit_zeros(PLATE_DEGREE);
+    let count = m.coeff_count();
+    let mut acc = vec![[0.0f64; 6]; count];
+    let mut y = [0.0f64; sh::MAX_COEFFS];
+    let (nt, np) = (48usize, 96usize);
+    for i in 0..nt {
+        let theta = PI * (i as f64 + 0.5) / nt as f64;
+        let w = theta.sin() * (PI / nt as f64) * (2.0 * PI / np as f64);
+        for j in 0..np {
+            let phi = 2.0 * PI * (j as f64 + 0.5) / np as f64;
+            let e = Vector3::new(
+                theta.sin() * phi.cos(),
+                theta.sin() * phi.sin(),
+                theta.cos(),
+            );
+            let (f, t) = plate_analytic(&e);
+            let [b1, b2, b3] = vector_basis(&e, &m.pole());
+            let vals = [
+                f.dot(&b1),
+                f.dot(&b2),
+                f.dot(&b3),
+                t.dot(&b1),
+                t.dot(&b2),
+                t.dot(&b3),
+            ];
+            let n = sh::evaluate(PLATE_DEGREE as usize, &e, &mut y);
+            for (row, &yk) in acc.iter_mut().zip(y.iter()).take(n) {
+                for (a, v) in row.iter_mut().zip(vals) {
+                    *a += w * yk * v;
+                }
+            }
+        }
+    }
+    for (k, row) in acc.iter().enumerate() {
+        for c in 0..3 {
+            let _ = m.set_alpha(c, k, row.get(c).copied().unwrap_or(0.0));
+            let _ = m.set_beta(c, k, row.get(c + 3).copied().unwrap_or(0.0));
+        }
+    }
+    let _ = m.set_name("plate");
+    let _ = m.set_damping(&(nalgebra::Matrix3::identity() * 0.02));
+    m.body = Some(PLATE_BODY);
+    m
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn plate_projection_is_close_to_the_analytic_plate() {
+        let m = demo_plate();
+        let e = Vector3::new(0.3, 0.2, 0.9).normalize();
+        let got = m.at_direction(&e).map(|c| c.force).unwrap_or_default();
+        let (want, _) = plate_analytic(&e);
+        assert!((got - want).norm() < 0.05, "{got:?} vs {want:?}");
+    }
+
+    #[test]
+    fn bundled_plate_decodes() {
+        let m = omniad_core::file::decode::<f64>(BUNDLED_PLATE).expect("data/plate.omni decodes");
+        assert!(m.at_direction(&Vector3::z()).is_some());
+        assert_eq!(default_model().label, "plate.omni (bundled)");
+    }
+
+    #[test]
+    fn isotropic_drag_opposes_motion() {
+        let m = isotropic_drag(&demo_plate(), 0.5).coefficients;
+        let e = Vector3::new(1.0, 0.0, 0.0);
+        let f = m.at_direction(&e).map(|c| c.force).unwrap_or_default();
+        assert!((f - Vector3::new(-0.5, 0.0, 0.0)).norm() < 1e-9);
+    }
+}

@@ -1,0 +1,129 @@
+//! View 3: live simulation of many falling bodies (paper Fig. 14) with
+//! the air density, size and mass/inertia controls, and a switch between
+//! OmniAD and a drag-only comparison model.
+
+pub mod tether;
+pub mod view;
+pub mod world;
+
+use crate::kite::design::{Analysis, Design};
+use crate::models::Model;
+use ratatui::crossterm::event::{KeyCode, KeyEvent};
+use tether::Tethered;
+use world::{Params, World};
+
+/// Line length of the tethered kite, m.
+pub const LINE_LENGTH: f64 = 10.0;
+
+/// Seed of the bodies' initial states (fixed: reproducible runs).
+pub const SEED: u64 = 14;
+/// Default number of bodies.
+pub const DEFAULT_COUNT: usize = 400;
+/// Most bodies.
+pub const MAX_COUNT: usize = 8000;
+
+/// The simulation view's state.
+#[derive(Clone, Debug)]
+pub struct SimView {
+    /// `[0]` OmniAD, `[1..]` comparison models.
+    pub models: Vec<Model>,
+    /// Model in use.
+    pub model: usize,
+    /// The Fig. 14 controls.
+    pub params: Params,
+    /// The bodies.
+    pub world: World,
+    /// Advancing on each tick.
+    pub running: bool,
+    /// Wall time of the last physics frame, ms (set by the run loop).
+    pub step_ms: f64,
+    /// The tethered-kite scene, when shown instead of the bodies.
+    pub kite: Option<Tethered>,
+}
+
+impl SimView {
+    /// A paused simulation of [`DEFAULT_COUNT`] bodies.
+    pub fn new(models: Vec<Model>) -> Self {
+        Self {
+            models,
+            model: 0,
+            params: Params::default(),
+            world: World::new(DEFAULT_COUNT, SEED),
+            running: false,
+            step_ms: 0.0,
+            kite: None,
+        }
+    }
+
+    /// The model in use.
+    pub fn current(&self) -> Option<&Model> {
+        self.models.get(self.model)
+    }
+
+    /// Switches between the falling bodies and the kite of `design` on
+    /// a line in gusts (the kite's panels use `plate`).
+    pub fn toggle_kite(&mut self, design: &Design, analysis: Option<&Analysis>) {
+        self.kite = match (self.kite.take(), analysis, self.models.first()) {
+            (None, Some(a), Some(m)) => {
+                Some(Tethered::new(design, a, &m.coefficients, LINE_LENGTH))
+            }
+            _ => None,
+        };
+    }
+
+    /// Advances one frame (if a model is loaded).
+    pub fn step(&mut self) {
+        if let Some(k) = &mut self.kite {
+            return k.step_frame();
+        }
+        if let Some(m) = self.models.get(self.model) {
+            self.world.step_frame(m, self.params);
+        }
+    }
+
+    /// Handles a key; returns whether it was used.
+    pub fn on_key(&mut self, key: KeyEvent) -> bool {
+        let KeyCode::Char(c) = key.code else {
+            return false;
+        };
+        if let Some(k) = &mut self.kite {
+            match c {
+                'g' => k.gust = (k.gust - 0.1).max(0.0),
+                'G' => k.gust = (k.gust + 0.1).min(1.0),
+                'u' => k.wind = (k.wind - 0.5).max(0.5),
+                'U' => k.wind = (k.wind + 0.5).min(30.0),
+                _ => return self.on_common_key(c),
+            }
+            return true;
+        }
+        self.on_common_key(c)
+    }
+
+    fn on_common_key(&mut self, c: char) -> bool {
+        let p = &mut self.params;
+        let up = 1.25;
+        match c {
+            ' ' => self.running = !self.running,
+            '.' => self.step(),
+            'd' => p.air_density = (p.air_density / up).max(0.01),
+            'D' => p.air_density = (p.air_density * up).min(100.0),
+            's' => p.size = (p.size / up).max(0.1),
+            'S' => p.size = (p.size * up).min(10.0),
+            'w' => p.mass_scale = (p.mass_scale / up).max(0.05),
+            'W' => p.mass_scale = (p.mass_scale * up).min(50.0),
+            'o' => self.model = (self.model + 1) % self.models.len().max(1),
+            '+' | '=' => self.resize(self.world.bodies.len() * 2),
+            '-' => self.resize(self.world.bodies.len() / 2),
+            '0' => {
+                self.params = Params::default();
+                self.world = World::new(self.world.bodies.len(), SEED);
+            }
+            _ => return false,
+        }
+        true
+    }
+
+    fn resize(&mut self, n: usize) {
+        self.world.resize(n.clamp(1, MAX_COUNT));
+    }
+}

@@ -1,0 +1,158 @@
+//! Many bodies falling through air (paper Fig. 14): one coefficient set,
+//! with air density ρ, size L and mass/inertia scale adjustable live.
+
+use crate::models::Model;
+use nalgebra::{Matrix3, Quaternion, UnitQuaternion, Vector3};
+use omniad_core::integrate::rk4_step;
+use omniad_core::rigid_body::AirForces;
+use omniad_core::{Coefficients, Environment, RigidBody, State};
+
+/// Spawn box half-width (x, y), m.
+pub const HALF_WIDTH: f64 = 2.0;
+/// Spawn height range, m.
+pub const SPAWN_Z: (f64, f64) = (4.0, 9.0);
+/// Physics step, s.
+pub const DT: f64 = 1.0 / 120.0;
+/// Physics steps per displayed frame (1/30 s of simulated time).
+pub const STEPS_PER_FRAME: usize = 4;
+
+/// The Fig. 14 controls.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Params {
+    /// Air density ρ, kg/m³.
+    pub air_density: f64,
+    /// Size factor applied to the model's reference length L.
+    pub size: f64,
+    /// Scale of mass and inertia.
+    pub mass_scale: f64,
+}
+
+impl Default for Params {
+    fn default() -> Self {
+        Self {
+            air_density: 1.2,
+            size: 1.0,
+            mass_scale: 1.0,
+        }
+    }
+}
+
+/// The falling bodies and their random source (deterministic seed).
+#[derive(Clone, Debug)]
+pub struct World {
+    /// Body states (world frame, z up).
+    pub bodies: Vec<State<f64>>,
+    /// Simulated time, s.
+    pub time: f64,
+    /// Bodies that reached the ground and were re-spawned.
+    pub landed: u64,
+    rng: u64,
+}
+
+/// splitmix64: small, fast, reproducible.
+fn next(rng: &mut u64) -> f64 {
+    *rng = rng.wrapping_add(0x9E37_79B9_7F4A_7C15);
+    let mut z = *rng;
+    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+    ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
+}
+
+impl World {
+    /// `count` bodies spread over the spawn box, from seed `seed`.
+    pub fn new(count: usize, seed: u64) -> Self {
+        let mut w = Self {
+            bodies: Vec::new(),
+            time: 0.0,
+            landed: 0,
+            rng: seed,
+        };
+        w.resize(count);
+        w
+    }
+
+    /// Adds or removes bodies to reach `count`.
+    pub fn resize(&mut self, count: usize) {
+        self.bodies.truncate(count);
+        while self.bodies.len() < count {
+            let z = SPAWN_Z.0 + (SPAWN_Z.1 - SPAWN_Z.0) * next(&mut self.rng);
+            let s = self.spawn(z);
+            self.bodies.push(s);
+        }
+    }
+
+    fn spawn(&mut self, z: f64) -> State<f64> {
+        let mut u = || next(&mut self.rng);
+        let pos = Vector3::new(
+            (2.0 * u() - 1.0) * HALF_WIDTH,
+            (2.0 * u() - 1.0) * HALF_WIDTH,
+            z,
+        );
+        let q = Quaternion::new(u() - 0.5, u() - 0.5, u() - 0.5, u() - 0.5);
+        let mut s = State::at_rest(pos);
+        s.orientation = UnitQuaternion::try_new(q, 1e-9).unwrap_or_else(UnitQuaternion::identity);
+        s
+    }
+
+    /// Advances one displayed frame with `model` under `params`: the
+    /// bodies are stepped in parallel (independent, so the result does not
+    /// depend on the thread count), then those that landed or left the
+    /// field are re-spawned at the top.
+    pub fn step_frame(&mut self, model: &Model, params: Params) {
+        let (coeffs, body) = scaled(model, params);
+        let env = Environment {
+            air_density: params.air_density,
+            ..Environment::standard()
+        };
+        let forces = AirForces {
+            model: &coeffs,
+            environment: env,
+        };
+        let t0 = self.time;
+        let advance = |part: &mut [State<f64>]| {
+            for s in part {
+                for k in 0..STEPS_PER_FRAME {
+                    *s = rk4_step(&body, &env, &forces, t0 + k as f64 * DT, DT, s);
+                }
+            }
+        };
+        let threads = std::thread::available_parallelism()
+            .map_or(1, |n| n.get())
+            .min(8);
+        let chunk = self.bodies.len().div_ceil(threads).max(128);
+        std::thread::scope(|scope| {
+            for part in self.bodies.chunks_mut(chunk) {
+                scope.spawn(|| advance(part));
+            }
+        });
+        self.time += STEPS_PER_FRAME as f64 * DT;
+        for i in 0..self.bodies.len() {
+            let out = self.bodies.get(i).is_none_or(|n| {
+                n.position.z < 0.0 || n.position.xy().norm() > 4.0 * HALF_WIDTH || !n.is_finite()
+            });
+            if out {
+                self.landed += 1;
+                let fresh = self.spawn(SPAWN_Z.1);
+                if let Some(slot) = self.bodies.get_mut(i) {
+                    *slot = fresh;
+                }
+            }
+        }
+    }
+}
+
+/// The model with L and the body scaled by `params`.
+pub fn scaled(model: &Model, params: Params) -> (Coefficients<f64>, RigidBody<f64>) {
+    let mut c = model.coefficients.clone();
+    let _ = c.set_reference_length(c.reference_length() * params.size);
+    let props = c.body.unwrap_or(crate::models::PLATE_BODY);
+    let inertia = omniad_core::math::symmetric_from_six(props.inertia) * params.mass_scale;
+    let body = RigidBody::new(props.mass * params.mass_scale, inertia)
+        .or_else(|_| RigidBody::new(props.mass, Matrix3::identity() * 1e-6))
+        .unwrap_or(RigidBody {
+            mass: 1.0,
+            inertia: Matrix3::identity(),
+            inverse_inertia: Matrix3::identity(),
+        });
+    (c, body)
+}
