@@ -103,81 +103,31 @@ const SQRT3: f64 = 1.732_050_807_568_877_2;
 /// count; `degree` above [`MAX_DEGREE`] is clamped to it.
 pub fn evaluate<T: Real>(degree: usize, dir: &Vector3<T>, out: &mut [T]) -> usize {
     let degree = degree.min(MAX_DEGREE);
-    let count = coeff_count(degree).min(out.len());
-    if count == coeff_count(degree) {
-        if let Some(full) = out.get_mut(..count) {
-            evaluate_full(degree, dir, full);
-            return count;
+    // The walk visits (l, m) as: m = 0 for l = 0..=N, then for each m >= 1
+    // and l = m..=N the pair (l, +m), (l, -m); track it to scatter each
+    // value to its standard index.
+    let (mut l, mut m, mut negative) = (0usize, 0isize, false);
+    walk(degree, dir, |y| {
+        if let Some(o) = out.get_mut(index(l, if negative { -m } else { m })) {
+            *o = y;
         }
-    }
-    // Short output: evaluate into scratch, copy the prefix that fits.
-    let mut scratch = [T::zero(); MAX_COEFFS];
-    evaluate_full(
-        degree,
-        dir,
-        scratch.get_mut(..coeff_count(degree)).unwrap_or(&mut []),
-    );
-    for (o, s) in out.iter_mut().zip(scratch.iter()) {
-        *o = *s;
-    }
-    count
-}
-
-/// The recurrence; `out.len()` is exactly `coeff_count(degree)`.
-#[inline(always)]
-fn evaluate_full<T: Real>(degree: usize, dir: &Vector3<T>, out: &mut [T]) {
-    let (x, y, z) = (dir.x, dir.y, dir.z);
-    let sqrt2 = T::of_f64(SQRT2);
-    let table = |t: &[f64; MAX_COEFFS], i: usize| T::of_f64(t.get(i).copied().unwrap_or(0.0));
-    let mut put = |i: usize, v: T| {
-        if let Some(o) = out.get_mut(i) {
-            *o = v;
-        }
-    };
-    // m = 0: zonal harmonics, Y_l0 = q_l^0.
-    let mut q_mm = T::of_f64(Y00);
-    let (mut q2, mut q1) = (T::zero(), q_mm);
-    put(0, q_mm);
-    for l in 1..=degree {
-        let q = if l == 1 {
-            T::of_f64(SQRT3) * z * q_mm
+        if m == 0 {
+            l += 1;
+            if l > degree {
+                (l, m) = (1, 1);
+            }
+        } else if !negative {
+            negative = true;
         } else {
-            let i = index(l, 0);
-            table(&TABLES.a, i) * (z * q1 - table(&TABLES.b, i) * q2)
-        };
-        put(index(l, 0), q);
-        q2 = q1;
-        q1 = q;
-    }
-    // m > 0: (C_m, S_m) = (x + iy)^m carry the longitude.
-    let (mut c, mut s) = (T::one(), T::zero());
-    for m in 1..=degree {
-        let (c_prev, s_prev) = (c, s);
-        c = x * c_prev - y * s_prev;
-        s = x * s_prev + y * c_prev;
-        q_mm *= T::of_f64(TABLES.diag.get(m).copied().unwrap_or(0.0));
-        let (cm, sm) = (sqrt2 * c, sqrt2 * s);
-        let base = m * m + m; // index(m, 0)
-        put(base + m, q_mm * cm);
-        put(base - m, q_mm * sm);
-        if m == degree {
-            break;
+            negative = false;
+            l += 1;
+            if l > degree {
+                m += 1;
+                l = m as usize;
+            }
         }
-        let mut q_prev2 = q_mm;
-        let mut q_prev = T::of_f64(TABLES.sub.get(m).copied().unwrap_or(0.0)) * z * q_mm;
-        let row = index(m + 1, 0);
-        put(row + m, q_prev * cm);
-        put(row - m, q_prev * sm);
-        for l in m + 2..=degree {
-            let i = index(l, m as isize);
-            let q = table(&TABLES.a, i) * (z * q_prev - table(&TABLES.b, i) * q_prev2);
-            let centre = l * l + l;
-            put(centre + m, q * cm);
-            put(centre - m, q * sm);
-            q_prev2 = q_prev;
-            q_prev = q;
-        }
-    }
+    });
+    coeff_count(degree).min(out.len())
 }
 
 /// Position of `Y_lm` in the *walk order* of degree `degree`: the order in
