@@ -31,6 +31,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         noise_floor: floor,
         ..FitConfig::default()
     };
+    if let Some(w) = std::env::var("MIRROR_WINDOW")
+        .ok()
+        .and_then(|s| s.parse().ok())
+    {
+        cfg.filter.mirror_window = w;
+    }
     if let Some(r) = std::env::var("XR").ok().and_then(|s| s.parse().ok()) {
         cfg.lsq.smoothing = r;
     }

@@ -1,6 +1,11 @@
 //! Reconstruction diagnostics on a synthetic set: per-take error in the
-//! camera frame (mean and RMS per axis) with the generating model or zero.
-//! `cargo run --release -p omniad-acquire --example diag -- SET plate|box|zero [walk-scale]`
+//! camera frame (mean and RMS per axis), reconstructing with the generating
+//! model of the project's synthetic plate or box, a zero model, or the
+//! pipeline's fitted model:
+//! `cargo run --release -p omniad-acquire --example diag -- SET plate|box|zero|fit
+//! [walk-scale] [white-noise-scale] [initial-bias-scale]`.
+//! `TAKE=name` prints that take's errors over time; `MIRROR_WINDOW=n` sets
+//! `FilterConfig::mirror_window` (0: no mirror-branch tests).
 
 use nalgebra::{Quaternion, UnitQuaternion, Vector3};
 use omniad_acquire::filter::FilterConfig;
@@ -29,9 +34,21 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let acc: f64 = args.get(4).and_then(|s| s.parse().ok()).unwrap_or(1.0);
     noise.accel *= acc;
     noise.angular_accel *= acc;
+    let mut fc = FilterConfig::default();
+    if let Ok(w) = std::env::var("MIRROR_WINDOW") {
+        fc.mirror_window = w.parse()?;
+    }
     let bias: f64 = args.get(5).and_then(|s| s.parse().ok()).unwrap_or(1.0);
-    let rec = if (bias - 1.0).abs() < 1e-12 {
-        pipeline::reconstruct(&set, &model, noise, &FilterConfig::default(), &Silent)?
+    let rec = if args.get(2).map(String::as_str) == Some("fit") {
+        let mut cfg = pipeline::FitConfig::default();
+        if let Ok(w) = std::env::var("MIRROR_WINDOW") {
+            cfg.filter.mirror_window = w.parse()?;
+        }
+        let out = pipeline::fit(&set, &cfg, &Silent)?;
+        let noise = pipeline::final_noise(&set, &out, &cfg);
+        pipeline::reconstruct(&set, &out.model, noise, &cfg.filter, &Silent)?
+    } else if (bias - 1.0).abs() < 1e-12 {
+        pipeline::reconstruct(&set, &model, noise, &fc, &Silent)?
     } else {
         let body = omniad_core::RigidBody::new(set.object.mass, set.object.inertia)
             .map_err(|e| format!("{e}"))?;
@@ -92,8 +109,16 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             let a = st.orientation.angle_to(&q);
             ang += a * a;
             last_ang = a;
-            if std::env::var("TAKE").ok().as_deref() == Some(take.name.as_str()) && n % 5 == 0 {
-                println!("  t {t:.3} ang {:.1} d {:.3} {:.3} {:.3}", a.to_degrees(), d.x, d.y, d.z);
+            if std::env::var("TAKE").ok().as_deref() == Some(take.name.as_str())
+                && n.is_multiple_of(3)
+            {
+                println!(
+                    "  t {t:.3} ang {:.1} d {:.3} {:.3} {:.3}",
+                    a.to_degrees(),
+                    d.x,
+                    d.y,
+                    d.z
+                );
             }
             n += 1;
         }

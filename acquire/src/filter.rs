@@ -6,6 +6,16 @@
 //! whose innovation fails a chi-square gate is ignored and counted; when
 //! every marker of [`LOST_FRAMES`] frames in a row is gated, the filter
 //! assumes it is lost and accepts the next frame's markers ungated.
+//!
+//! Mirror-image poses: a face's four coplanar markers seen from 7 m fit two
+//! poses (the face tilted towards or away from the line of sight) almost
+//! equally well, and the filter can follow the wrong branch where the two
+//! meet. Every `mirror_window` epochs the other branch is filtered over the
+//! next `mirror_window` epochs and taken when it predicts their markers
+//! clearly better; the epochs since the previous test are then filtered
+//! again with a test at each, so that the switch lands where the branches
+//! part, and the smoother does not carry the jump back (see
+//! `Filter::mirror_test`; counted in [`FilterStats::mirror_switches`]).
 
 use crate::camera::Camera;
 use crate::measurement::{marker_pixel, pose_residual};
@@ -22,9 +32,18 @@ pub const LOST_FRAMES: usize = 3;
 /// Posterior miss, in pixel sigmas, beyond which a marker is an outlier.
 pub const POSTERIOR_GATE: f64 = 6.0;
 
-/// Seen markers count as coplanar (see [`Filter::mirror_check`]) when the
+/// Seen markers count as coplanar (see `Filter::mirror_test`) when the
 /// smallest eigenvalue of their scatter is below this fraction of the largest.
 pub const MIRROR_PLANARITY: f64 = 0.01;
+
+/// The other mirror-image branch (see `Filter::mirror_test`) is taken
+/// only when it is better by this much (negative log-likelihood x2: a
+/// likelihood ratio of `exp(9 / 2)`, about 90 to 1), so that nearly-tied
+/// branches cannot make the estimate flicker.
+pub const MIRROR_MARGIN: f64 = 9.0;
+
+/// Default of [`FilterConfig::mirror_window`].
+pub const MIRROR_WINDOW: usize = 12;
 
 /// Filter settings. Defaults are documented per field.
 #[derive(Clone, Debug, PartialEq)]
@@ -51,6 +70,10 @@ pub struct FilterConfig {
     /// previous pass's smoothed first state, so that the early frames are
     /// linearised about a good estimate (default 2).
     pub passes: usize,
+    /// Epochs between mirror-image branch tests and epochs each test looks
+    /// ahead (see `Filter::mirror_test`); 0 turns the tests off
+    /// (default [`MIRROR_WINDOW`]).
+    pub mirror_window: usize,
 }
 
 impl Default for FilterConfig {
@@ -65,6 +88,7 @@ impl Default for FilterConfig {
             initial_bias: [1.0, 0.1],
             update_iterations: 4,
             passes: 2,
+            mirror_window: MIRROR_WINDOW,
         }
     }
 }
@@ -82,6 +106,8 @@ pub struct FilterStats {
     pub unprojectable: usize,
     /// Predictions that were not finite (the filter restarted).
     pub restarts: usize,
+    /// Times the filter moved to the other mirror-image pose branch.
+    pub mirror_switches: usize,
 }
 
 fn finite(x: &FilterState) -> bool {
@@ -118,6 +144,13 @@ struct Step {
     filtered_cov: Cov,
     /// Jacobian from the previous epoch to this one.
     jacobian: Cov,
+    /// The filter moved to the other mirror-image branch at this epoch: the
+    /// states before it were on the wrong one, and the smoother must not
+    /// carry this jump back through the linearised dynamics.
+    switched: bool,
+    /// Counts and lost-frame run after this epoch (to filter again from it).
+    stats: FilterStats,
+    lost: usize,
 }
 
 impl Filter<'_> {
@@ -169,7 +202,15 @@ impl Filter<'_> {
         let mut out: Vec<Step> = Vec::with_capacity(epochs.len());
         let mut lost = 0;
         let mut prev_t = epochs.first().map(|e| e.t).unwrap_or(0.0);
-        for e in epochs {
+        let window = self.config.mirror_window;
+        // After a branch switch is found at a periodic test, the epochs since
+        // the previous test are filtered again, testing at every epoch up to
+        // this index, so that the switch happens where the branches part.
+        let mut scan_until: Option<usize> = None;
+        // Never filter the same epochs again twice, nor again before a switch.
+        let (mut scanned, mut floor) = (0, 1);
+        let mut i = 0;
+        while let Some(e) = epochs.get(i) {
             let (predicted, predicted_cov, jacobian) = match out.last() {
                 None => (initial, self.initial_cov(), Cov::identity()),
                 Some(p) => {
@@ -192,9 +233,42 @@ impl Filter<'_> {
             prev_t = e.t;
             let (mut filtered, mut filtered_cov) =
                 self.update(&e.observation, &predicted, &predicted_cov, &mut lost, stats);
+            let mut switched = false;
+            let scanning = scan_until.is_some_and(|k| i <= k);
             if !finite(&filtered) || filtered_cov.iter().any(|v| !v.is_finite()) {
                 stats.restarts += 1;
                 (filtered, filtered_cov) = (predicted, predicted_cov);
+            } else if window > 0 && (scanning || i.is_multiple_of(window)) {
+                let later = epochs.get(i + 1..).unwrap_or(&[]);
+                if let Some(alt) = self.mirror_test(
+                    e,
+                    later,
+                    &predicted,
+                    &predicted_cov,
+                    &filtered,
+                    &filtered_cov,
+                ) {
+                    let back = i.saturating_sub(window - 1).max(floor);
+                    if !scanning && back < i && i > scanned {
+                        if let Some((b_stats, b_lost)) =
+                            out.get(back - 1).map(|b| (b.stats, b.lost))
+                        {
+                            out.truncate(back);
+                            *stats = b_stats;
+                            lost = b_lost;
+                            prev_t = epochs.get(back - 1).map_or(prev_t, |e| e.t);
+                            scan_until = Some(i);
+                            scanned = i;
+                            i = back;
+                            continue;
+                        }
+                    }
+                    (filtered, filtered_cov) = alt;
+                    stats.mirror_switches += 1;
+                    switched = true;
+                    scan_until = None;
+                    floor = i + 1;
+                }
             }
             out.push(Step {
                 predicted,
@@ -202,7 +276,11 @@ impl Filter<'_> {
                 filtered,
                 filtered_cov,
                 jacobian,
+                switched,
+                stats: *stats,
+                lost,
             });
+            i += 1;
         }
         out
     }
@@ -227,8 +305,8 @@ impl Filter<'_> {
                     return (*x, *p);
                 }
                 *lost = 0;
-                let (list, post, cov) = self.update_markers_robust(accepted, x, p, stats);
-                self.mirror_check(&list, x, p, post, cov)
+                let (_, post, cov) = self.update_markers_robust(accepted, x, p, stats);
+                (post, cov)
             }
             Observation::Pose(y, q) => self.update_pose(y, q, x, p, stats),
         }
@@ -354,71 +432,115 @@ impl Filter<'_> {
         (x, cov)
     }
 
-    /// The MAP cost of an updated state: prior term plus the markers'
-    /// squared pixel misses, both in sigmas squared.
-    fn map_cost(
+    /// Coplanar markers seen from afar fit two poses almost equally well:
+    /// the plane tilted towards or away from the line of sight (the
+    /// mirror-image ambiguity of planar pose estimation). The two branches
+    /// meet when the plane faces the camera, and the iterated update, a
+    /// local search, follows whichever the prediction is on; a single frame
+    /// cannot tell them apart, the motion over the next frames can. So the
+    /// update is repeated from the prediction mirrored onto the other branch
+    /// (same covariance) and, when that explains this
+    /// frame's markers about as well, both are filtered over the next
+    /// `mirror_window` epochs; the other branch is taken when it predicts
+    /// those epochs' markers better by [`MIRROR_MARGIN`] (see
+    /// [`Self::window_nll`]).
+    fn mirror_test(
         &self,
-        list: &[MarkerSighting],
-        post: &FilterState,
+        epoch: &Epoch,
+        later: &[Epoch],
         prior: &FilterState,
-        p_inv: &Cov,
-    ) -> f64 {
+        p: &Cov,
+        post: &FilterState,
+        cov: &Cov,
+    ) -> Option<(FilterState, Cov)> {
+        let Observation::Markers(list) = &epoch.observation else {
+            return None;
+        };
+        let window = later.get(..self.config.mirror_window).unwrap_or(later);
+        if window.is_empty() {
+            return None;
+        }
+        // The other hypothesis: the prediction was on the other branch.
+        let other = self.mirror(list, prior)?;
+        let (alt, alt_cov) = self.update_markers(list, &other, &other, p);
+        if !finite(&alt) || alt_cov.iter().any(|v| !v.is_finite()) {
+            return None;
+        }
+        let fit = |x: &FilterState| -> f64 {
+            let Some(camera) = self.camera else {
+                return f64::INFINITY;
+            };
+            let w = 1.0 / self.config.pixel_noise.powi(2);
+            list.iter()
+                .filter_map(|m| {
+                    let (_, body) = self.object.markers.get(m.marker)?;
+                    Some(match marker_pixel(camera, &x.body, body) {
+                        Some((pixel, _)) => (m.pixel - pixel).norm_squared() * w,
+                        None => f64::INFINITY,
+                    })
+                })
+                .sum()
+        };
+        if fit(&alt) > fit(post) + MIRROR_MARGIN {
+            return None;
+        }
+        let here = self.window_nll(post, cov, epoch.t, window);
+        let there = self.window_nll(&alt, &alt_cov, epoch.t, window);
+        (there + MIRROR_MARGIN < here).then_some((alt, alt_cov))
+    }
+
+    /// How badly filtering `epochs` from `start` (at time `t`) predicts
+    /// their markers: the sum over markers of the squared Mahalanobis
+    /// distance of each innovation, capped at the marker gate (an outlier
+    /// costs no more than that). This is the prediction-error negative
+    /// log-likelihood (x2) without its `ln det S` terms, which nearly cancel
+    /// between two hypotheses started with the same covariance.
+    fn window_nll(&self, start: &FilterState, cov: &Cov, t: f64, epochs: &[Epoch]) -> f64 {
         let Some(camera) = self.camera else {
             return f64::INFINITY;
         };
-        let d = boxminus(post, prior);
-        let mut cost = (d.transpose() * p_inv * d)[0];
-        let w = 1.0 / self.config.pixel_noise.powi(2);
-        for m in list {
-            let Some((_, body)) = self.object.markers.get(m.marker) else {
-                continue;
-            };
-            match marker_pixel(camera, &post.body, body) {
-                Some((pixel, _)) => cost += (m.pixel - pixel).norm_squared() * w,
-                None => return f64::INFINITY,
+        let r = self.config.pixel_noise.powi(2);
+        let (mut x, mut p, mut prev) = (*start, *cov, t);
+        let mut stats = FilterStats::default();
+        let mut lost = 0;
+        let mut nll = 0.0;
+        for e in epochs {
+            let (xn, f) = self.process.step_with_jacobian(&x, e.t - prev);
+            let pn = f * p * f.transpose() + self.process.noise(e.t - prev);
+            prev = e.t;
+            if !finite(&xn) || pn.iter().any(|v| !v.is_finite()) {
+                return f64::INFINITY;
             }
+            if let Observation::Markers(list) = &e.observation {
+                for m in list {
+                    let Some((_, body)) = self.object.markers.get(m.marker) else {
+                        continue;
+                    };
+                    let Some((pixel, h)) = marker_pixel(camera, &xn.body, body) else {
+                        nll += self.config.marker_gate;
+                        continue;
+                    };
+                    let s = h * pn * h.transpose() + nalgebra::Matrix2::identity() * r;
+                    let nu = m.pixel - pixel;
+                    let d2 = s
+                        .try_inverse()
+                        .map(|si| (nu.transpose() * si * nu)[0])
+                        .unwrap_or(f64::INFINITY);
+                    nll += d2.min(self.config.marker_gate);
+                }
+            }
+            (x, p) = self.update(&e.observation, &xn, &pn, &mut lost, &mut stats);
         }
-        cost
-    }
-
-    /// Coplanar markers seen from afar fit two poses almost equally well:
-    /// the plane tilted towards or away from the line of sight (the
-    /// mirror-image ambiguity of planar pose estimation). The iterated
-    /// update is a local search and keeps whichever branch the prediction
-    /// starts on, so the update is repeated from the other branch and the
-    /// state with the lower MAP cost (prior plus markers) is kept.
-    fn mirror_check(
-        &self,
-        list: &[MarkerSighting],
-        prior: &FilterState,
-        p: &Cov,
-        post: FilterState,
-        cov: Cov,
-    ) -> (FilterState, Cov) {
-        let Some(start) = self.mirror(list, &post) else {
-            return (post, cov);
-        };
-        let Some(p_inv) = p.cholesky().map(|c| c.inverse()) else {
-            return (post, cov);
-        };
-        let (alt, alt_cov) = self.update_markers(list, &start, prior, p);
-        let (a, b) = (
-            self.map_cost(list, &post, prior, &p_inv),
-            self.map_cost(list, &alt, prior, &p_inv),
-        );
-        if b < a && finite(&alt) && alt_cov.iter().all(|v| v.is_finite()) {
-            (alt, alt_cov)
-        } else {
-            (post, cov)
-        }
+        nll
     }
 
     /// The mirror-image pose of `x` for the seen markers, when they are
     /// (nearly) coplanar: the markers' offsets from their centroid reflected
     /// through the plane normal to the line of sight (`R' = S R F`, `S` the
     /// world reflection along the line of sight, `F` the body reflection
-    /// across the marker plane), keeping the centroid in place; the angular
-    /// velocity is mirrored accordingly (`Ω' = -F Ω`).
+    /// across the marker plane), keeping the centroid and its velocity; the
+    /// angular velocity and unexplained torque are mirrored accordingly
+    /// (`Ω' = -F Ω`), the unexplained force keeps its world direction.
     fn mirror(&self, list: &[MarkerSighting], x: &FilterState) -> Option<FilterState> {
         let camera = self.camera?;
         let pts: Vec<Vector3<f64>> = list
@@ -447,10 +569,19 @@ impl Filter<'_> {
         let f = Matrix3::identity() - 2.0 * m * m.transpose();
         let r2 = s * r * f;
         let q2 = UnitQuaternion::from_rotation_matrix(&Rotation3::from_matrix_unchecked(r2));
+        let w = x.body.angular_velocity;
+        let w2 = -(f * w);
+        // The centroid keeps its velocity; the centre of mass follows it.
+        let centroid_velocity = x.body.velocity + r * w.cross(&c);
         let mut out = *x;
         out.body.orientation = q2;
         out.body.position = centroid - r2 * c;
-        out.body.angular_velocity = -(f * x.body.angular_velocity);
+        out.body.velocity = centroid_velocity - r2 * w2.cross(&c);
+        out.body.angular_velocity = w2;
+        // The unexplained force keeps its world direction (the centre of
+        // mass accelerates alike); the torque mirrors like the spin.
+        out.force = r2.transpose() * (r * x.force);
+        out.torque = -(f * x.torque);
         Some(out)
     }
 
@@ -501,6 +632,10 @@ fn smooth(steps: &[Step]) -> Vec<FilterState> {
         else {
             break;
         };
+        if nxt.switched {
+            next_cov = cur.filtered_cov;
+            continue;
+        }
         let Some(pp_inv) = nxt.predicted_cov.cholesky().map(|c| c.inverse()) else {
             continue;
         };
@@ -513,4 +648,86 @@ fn smooth(steps: &[Step]) -> Vec<FilterState> {
         }
     }
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use nalgebra::Vector2;
+    use omniad_core::{Environment, RigidBody};
+
+    fn object() -> Object {
+        let markers = [(0.15, 0.18), (0.15, -0.18), (-0.15, -0.18), (-0.15, 0.18)]
+            .iter()
+            .enumerate()
+            .map(|(i, (x, y))| (format!("m{i}"), Vector3::new(*x, *y, 0.1)))
+            .collect();
+        Object {
+            name: "box face".into(),
+            mass: 0.04,
+            inertia: Matrix3::from_diagonal(&Vector3::new(7e-4, 4e-4, 6e-4)),
+            reference_length: 0.54,
+            pole: Vector3::z(),
+            markers,
+        }
+    }
+
+    #[test]
+    fn mirror_pose_fits_the_markers_and_keeps_the_centroid_motion() {
+        let camera = crate::synth_write::standard_camera(0.7);
+        let object = object();
+        let model = crate::model::zero_model(&object, 2).expect("model");
+        let filter = Filter {
+            process: Process {
+                body: RigidBody::new(object.mass, object.inertia).expect("body"),
+                environment: Environment::standard(),
+                model: &model,
+                accel_noise: 1.0,
+                angular_accel_noise: 1.0,
+                force_walk: 0.1,
+                torque_walk: 0.01,
+            },
+            object: &object,
+            camera: Some(&camera),
+            config: FilterConfig::default(),
+        };
+        // The face (body +z) tilted 20 degrees away from facing the camera.
+        let face_camera = UnitQuaternion::from_axis_angle(&Vector3::x_axis(), 1.2);
+        let x = FilterState::new(State {
+            position: Vector3::new(0.3, 0.1, 3.0),
+            orientation: face_camera,
+            velocity: Vector3::new(0.5, 0.2, -4.0),
+            angular_velocity: Vector3::new(2.0, -1.0, 0.5),
+        });
+        let list: Vec<MarkerSighting> = (0..4)
+            .map(|marker| MarkerSighting {
+                marker,
+                pixel: Vector2::zeros(),
+            })
+            .collect();
+        let m = filter.mirror(&list, &x).expect("coplanar markers");
+        let angle = x
+            .body
+            .orientation
+            .angle_to(&m.body.orientation)
+            .to_degrees();
+        assert!(angle > 5.0, "the mirror pose is another pose ({angle} deg)");
+        for (_, body) in &object.markers {
+            let a = marker_pixel(&camera, &x.body, body).expect("a").0;
+            let b = marker_pixel(&camera, &m.body, body).expect("b").0;
+            assert!((a - b).norm() < 1.0, "marker pixels {a} vs {b}");
+        }
+        // The centroid and its velocity are kept.
+        let c = Vector3::new(0.0, 0.0, 0.1);
+        let centroid = |s: &FilterState| s.body.position + s.body.orientation * c;
+        let centroid_velocity = |s: &FilterState| {
+            s.body.velocity + s.body.orientation * s.body.angular_velocity.cross(&c)
+        };
+        assert!((centroid(&x) - centroid(&m)).norm() < 1e-12);
+        assert!((centroid_velocity(&x) - centroid_velocity(&m)).norm() < 1e-12);
+        // Mirroring twice gives the pose back.
+        let back = filter.mirror(&list, &m).expect("coplanar");
+        assert!(back.body.orientation.angle_to(&x.body.orientation) < 1e-9);
+        assert!((back.body.angular_velocity - x.body.angular_velocity).norm() < 1e-9);
+    }
 }

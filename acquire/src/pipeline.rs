@@ -369,6 +369,7 @@ fn total_stats(smoothed: &[Smoothed]) -> FilterStats {
             empty_frames: a.empty_frames + s.stats.empty_frames,
             unprojectable: a.unprojectable + s.stats.unprojectable,
             restarts: a.restarts + s.stats.restarts,
+            mirror_switches: a.mirror_switches + s.stats.mirror_switches,
         })
 }
 

@@ -159,6 +159,7 @@ fn report(o: &FitOutcome, loaded: f64, total: f64) -> serde_json::Value {
                 "process_noise": { "force_walk": r.noise.force_walk, "torque_walk": r.noise.torque_walk },
                 "marker_rows_used": r.filter.used, "marker_rows_gated": r.filter.gated,
                 "empty_frames": r.filter.empty_frames, "filter_restarts": r.filter.restarts,
+                "mirror_switches": r.filter.mirror_switches,
                 "rejected": r.rejected, "seconds": r.seconds,
             })
         })
