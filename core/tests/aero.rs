@@ -72,3 +72,24 @@ fn force_scales_with_speed_squared_and_length_squared() {
     let f3 = m.wrench(&v, &Vector3::zeros(), 1.2).force;
     assert!((f3 - f1 * 4.0).norm() < 1e-12);
 }
+
+#[test]
+fn simd_row_accumulation_is_bit_identical_to_scalar() {
+    use omniad_core::Real;
+    let mut state = 0x2545_F491_4F6C_DD1Du64;
+    let mut next = || {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        (state >> 40) as f32 / (1u64 << 24) as f32 * 2.0 - 1.0
+    };
+    for _ in 0..1000 {
+        let row: [f32; 8] = core::array::from_fn(|_| next() * 3.0);
+        let start: [f32; 8] = core::array::from_fn(|_| next());
+        let y = next() * 0.7;
+        let mut simd = start;
+        f32::accumulate_row(&mut simd, &row, y);
+        let scalar: [f32; 8] = core::array::from_fn(|j| start[j] + row[j] * y);
+        assert_eq!(simd.map(f32::to_bits), scalar.map(f32::to_bits));
+    }
+}
