@@ -36,6 +36,7 @@ pub mod file;
 pub mod integrate;
 pub mod kite;
 pub mod math;
+pub mod quadrature;
 pub mod rigid_body;
 pub mod sh;
 
