@@ -52,17 +52,7 @@ mod tests {
 
     #[test]
     fn marker_jacobian_matches_finite_differences() {
-        let camera = Camera {
-            width: 720,
-            height: 1280,
-            fps: 60.0,
-            focal: Vector2::new(1100.0, 1100.0),
-            centre: Vector2::new(359.5, 639.5),
-            distortion: [-0.05, 0.01, 0.0005, -0.0003, 0.0],
-            rotation: Matrix3::new(1.0, 0.0, 0.0, 0.0, 0.0, -1.0, 0.0, 1.0, 0.0),
-            translation: Vector3::new(0.0, 3.5, 7.0),
-            pixel_noise: 0.7,
-        };
+        let camera = crate::synth_write::standard_camera(0.7);
         let s = crate::state::FilterState::new(State {
             position: Vector3::new(0.2, -0.3, 4.0),
             orientation: UnitQuaternion::from_euler_angles(0.4, 1.1, -0.7),

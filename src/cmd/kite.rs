@@ -11,10 +11,10 @@ use std::path::{Path, PathBuf};
 pub enum KiteCommand {
     /// Static equilibrium and stability (tension, unbalanced torque,
     /// attachment point, eigen-axes, verdict).
-    Check(CheckArgs),
+    Check(StaticArgs),
     /// Orientation at which the kite balances with the file's attachment
     /// point (zero unbalanced torque), and its stability there.
-    Trim(TrimArgs),
+    Trim(StaticArgs),
     /// Tethered flight in gusty wind (RK4); outcome flies / unsettled /
     /// crashes.
     Fly(FlyArgs),
@@ -33,22 +33,9 @@ pub struct Common {
     pub primitives: Option<PathBuf>,
 }
 
-/// `omniad kite check`.
+/// `omniad kite check` and `omniad kite trim`: the same statics inputs.
 #[derive(Args, Debug)]
-pub struct CheckArgs {
-    #[command(flatten)]
-    pub common: Common,
-    /// Wind speed, m/s (default: the file's).
-    #[arg(long)]
-    pub wind: Option<f64>,
-    /// Print JSON.
-    #[arg(long)]
-    pub json: bool,
-}
-
-/// `omniad kite trim`.
-#[derive(Args, Debug)]
-pub struct TrimArgs {
+pub struct StaticArgs {
     #[command(flatten)]
     pub common: Common,
     /// Wind speed, m/s (default: the file's).
