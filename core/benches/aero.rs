@@ -37,6 +37,17 @@ fn bench_eval<T: Real>(c: &mut Criterion, name: &str) {
     });
 }
 
+/// The parts of one evaluation: the SH sums alone (eqs. 7-8 before the
+/// basis) and the direction coefficients (sums + basis).
+fn bench_parts(c: &mut Criterion) {
+    let m = model::<f32>();
+    let e = Vector3::new(0.3f32, -1.2, -3.1).normalize();
+    c.bench_function("sh_sums_n8_f32", |b| b.iter(|| m.sh_sums(black_box(&e))));
+    c.bench_function("direction_coefficients_n8_f32", |b| {
+        b.iter(|| m.at_unit_direction(black_box(&e)))
+    });
+}
+
 fn bench_rk4(c: &mut Criterion) {
     let m = model::<f64>();
     let body = RigidBody::new(
@@ -60,6 +71,7 @@ fn bench_rk4(c: &mut Criterion) {
 fn benches(c: &mut Criterion) {
     bench_eval::<f32>(c, "force_torque_n8_f32");
     bench_eval::<f64>(c, "force_torque_n8_f64");
+    bench_parts(c);
     bench_rk4(c);
 }
 

@@ -2,8 +2,8 @@
 
 use crate::basis::vector_basis;
 use crate::coefficients::Coefficients;
+use crate::lanes::SimdCoefficients;
 use crate::math::{lit, norm, Real};
-use crate::sh;
 use nalgebra::Vector3;
 
 /// A force (N) and torque (N m) pair, both in the body frame unless stated.
@@ -50,8 +50,16 @@ impl<T: Real> Coefficients<T> {
 
     /// As [`Self::at_direction`] for a unit `e` (not checked).
     pub fn at_unit_direction(&self, e: &Vector3<T>) -> DirectionCoefficients<T> {
-        let s = sh::accumulate(self.degree() as usize, e, self.rows());
+        self.at_unit_direction_inline(e)
+    }
+
+    #[inline(always)]
+    fn at_unit_direction_inline(&self, e: &Vector3<T>) -> DirectionCoefficients<T> {
+        // The basis first: its square roots and divisions form a long
+        // latency chain that then overlaps with the (longer) SH sums
+        // instead of following them.
         let basis = vector_basis(e, &self.pole());
+        let s = self.sh_sums(e);
         let [b1, b2, b3] = basis;
         let lane = |i: usize| s.get(i).copied().unwrap_or_else(T::zero);
         let [a1, a2, a3, t1, t2, t3] = [0, 1, 2, 3, 4, 5].map(lane);
@@ -75,24 +83,38 @@ impl<T: Real> Coefficients<T> {
         angular_velocity: &Vector3<T>,
         air_density: T,
     ) -> Wrench<T> {
+        T::Simd::wrench(self, velocity, angular_velocity, air_density)
+    }
+
+    /// [`Self::wrench`], inlined into the caller.
+    #[inline(always)]
+    pub(crate) fn wrench_inline(
+        &self,
+        velocity: &Vector3<T>,
+        angular_velocity: &Vector3<T>,
+        air_density: T,
+    ) -> Wrench<T> {
         let l = self.reference_length();
         let half_rho = lit::<T>(0.5) * air_density;
-        let speed_sq = velocity.dot(velocity);
+        // Damping first, second term of eq. (6): -½ρ D |Ω| Ω L⁵. Its square
+        // root then runs while the SH sums are computed.
+        let spin = norm(angular_velocity);
+        let damping = if spin > T::zero() {
+            let l2 = l * l;
+            self.damping() * angular_velocity * (half_rho * spin * l2 * l2 * l)
+        } else {
+            Vector3::zeros()
+        };
         let mut out = Wrench::zero();
+        let speed_sq = velocity.dot(velocity);
         if speed_sq > T::zero() && speed_sq.finite() {
-            let e = velocity / speed_sq.root();
-            let c = self.at_unit_direction(&e);
+            let e = velocity * (T::one() / speed_sq.root());
+            let c = self.at_unit_direction_inline(&e);
             let q = half_rho * speed_sq;
             out.force = c.force * (q * l * l);
             out.torque = c.torque * (q * l * l * l);
         }
-        // Damping, second term of eq. (6): -½ρ D |Ω| Ω L⁵.
-        let spin = norm(angular_velocity);
-        if spin > T::zero() {
-            let l2 = l * l;
-            let damping = self.damping() * angular_velocity * (half_rho * spin * l2 * l2 * l);
-            out.torque -= damping;
-        }
+        out.torque -= damping;
         out
     }
 }

@@ -2,22 +2,13 @@
 //! D (eq. 6), the object's reference length L and pole Z, the rigid body it
 //! was measured on, provenance, and model extensions.
 
+use crate::lanes::SimdCoefficients;
 use crate::math::{is_positive_semidefinite, six_from_symmetric, symmetric_from_six, Real};
 use crate::sh::{self, MAX_COEFFS, MAX_DEGREE};
 use nalgebra::{Matrix3, Vector3};
 
 /// Number of interleaved coefficient sets: `alpha^1..3`, `beta^1..3`.
 pub const SETS: usize = 6;
-/// Row width. On the host, [`SETS`] padded to 8 so that the six
-/// accumulations run as full SIMD lanes (the two extra lanes stay zero).
-/// On Arm (the Cortex-M4F has no SIMD floats) padding would only cost two
-/// wasted multiply-adds per row, so rows are exactly six wide. Each lane is
-/// accumulated in the same order either way, so results are bit-identical.
-#[cfg(not(target_arch = "arm"))]
-pub const ROW: usize = 8;
-/// Row width (see the host definition).
-#[cfg(target_arch = "arm")]
-pub const ROW: usize = SETS;
 /// Longest object name, in bytes (UTF-8).
 pub const NAME_CAPACITY: usize = 64;
 /// Longest free-text provenance field, in bytes.
@@ -135,19 +126,21 @@ pub struct Extension {
 
 /// The OmniAD coefficients of one object.
 ///
-/// Storage is interleaved for evaluation speed: each row holds
-/// `[alpha^1, alpha^2, alpha^3, beta^1, beta^2, beta^3]` of one `(l, m)`,
-/// rows in the recurrence's walk order ([`sh::walk_position`]), so that
-/// evaluating eqs. (7)-(8) is one streaming pass that fuses the SH
-/// recurrence with six independent accumulators ([`sh::accumulate`]). The
-/// public accessors take the standard index `k = l*l + l + m`.
+/// Storage is laid out for evaluation speed ([`lanes`]): rows of the six
+/// sets `[alpha^1..3, beta^1..3]` in the scalar path's walk order, and,
+/// where the scalar type has a SIMD path, a second copy in its lane layout
+/// (entries beyond the degree stay zero). The public accessors take the
+/// standard index `k = l*l + l + m` and keep both copies equal.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Coefficients<T: Real> {
     name: heapless::String<NAME_CAPACITY>,
     degree: u8,
     pole: Vector3<T>,
     reference_length: T,
-    weights: [[T; ROW]; MAX_COEFFS],
+    rows: [[T; SETS]; MAX_COEFFS],
+    simd: T::Simd,
+    /// Use the portable path even where a SIMD path exists.
+    portable: bool,
     damping: Matrix3<T>,
     /// Mass properties of the measured object, if known.
     pub body: Option<MassProperties>,
@@ -167,7 +160,9 @@ impl<T: Real> Coefficients<T> {
             degree,
             pole,
             reference_length,
-            weights: [[T::zero(); ROW]; MAX_COEFFS],
+            rows: [[T::zero(); SETS]; MAX_COEFFS],
+            simd: T::Simd::zeroed(),
+            portable: false,
             damping: Matrix3::zeros(),
             body: None,
             provenance: Provenance::default(),
@@ -190,9 +185,8 @@ impl<T: Real> Coefficients<T> {
         self.degree = degree;
         self.pole = pole;
         self.reference_length = length;
-        for row in self.weights.iter_mut() {
-            *row = [T::zero(); ROW];
-        }
+        self.rows = [[T::zero(); SETS]; MAX_COEFFS];
+        self.simd = T::Simd::zeroed();
         self.damping = Matrix3::zeros();
         self.body = None;
         self.provenance.method.clear();
@@ -311,7 +305,7 @@ impl<T: Real> Coefficients<T> {
         self.set(component + 3, k, v, "beta")
     }
 
-    /// Storage row of standard index `k` at this model's degree.
+    /// Row of standard index `k` at this model's degree.
     fn row_of(&self, k: usize) -> Option<usize> {
         if k >= self.coeff_count() {
             return None;
@@ -321,7 +315,7 @@ impl<T: Real> Coefficients<T> {
     }
 
     fn get(&self, set: usize, k: usize) -> Option<T> {
-        self.weights.get(self.row_of(k)?)?.get(set).copied()
+        self.rows.get(self.row_of(k)?)?.get(set).copied()
     }
 
     fn set(&mut self, set: usize, k: usize, v: T, field: &'static str) -> Result<(), ModelError> {
@@ -330,33 +324,69 @@ impl<T: Real> Coefficients<T> {
         }
         let row = self.row_of(k).ok_or(ModelError::OutOfRange(field))?;
         let slot = self
-            .weights
+            .rows
             .get_mut(row)
             .and_then(|row| row.get_mut(set))
             .ok_or(ModelError::OutOfRange(field))?;
         *slot = v;
+        let (l, m) = sh::degree_order(k);
+        self.simd.set(l, m, set, v);
         Ok(())
     }
 
-    /// The interleaved rows actually used, `(N+1)^2` of them, walk order.
-    pub(crate) fn rows(&self) -> &[[T; ROW]] {
-        self.weights.get(..self.coeff_count()).unwrap_or(&[])
+    /// The six weighted sums of eqs. (7)-(8), `Σ_k [alpha^i_k, beta^i_k]
+    /// Y_k(e)`, at a unit body-frame direction: by the SIMD path where this
+    /// machine has one ([`crate::lanes`]), unless [`Self::set_portable`] asked for
+    /// the portable path.
+    #[inline]
+    pub fn sh_sums(&self, e: &Vector3<T>) -> [T; SETS] {
+        if !self.portable {
+            if let Some(sums) = self.simd.accumulate(self.degree as usize, e) {
+                return sums;
+            }
+        }
+        self.sh_sums_portable(e)
+    }
+
+    /// [`Self::sh_sums`] by the portable scalar path: what the firmware
+    /// runs, identical to the bit on every target.
+    pub fn sh_sums_portable(&self, e: &Vector3<T>) -> [T; SETS] {
+        let rows = self.rows.get(..self.coeff_count()).unwrap_or(&[]);
+        sh::accumulate(self.degree as usize, e, rows)
+    }
+
+    /// Evaluate with the portable path only (e.g. to compare results bit
+    /// for bit with the firmware); the SIMD path otherwise.
+    pub fn set_portable(&mut self, portable: bool) {
+        self.portable = portable;
     }
 
     /// The same model in another scalar type.
     pub fn cast<U: Real>(&self) -> Coefficients<U> {
         let c = |x: T| U::of_f64(x.as_f64());
-        Coefficients {
+        let mut out = Coefficients {
             name: self.name.clone(),
             degree: self.degree,
             pole: self.pole.map(c),
             reference_length: c(self.reference_length),
-            weights: self.weights.map(|row| row.map(c)),
+            rows: [[U::zero(); SETS]; MAX_COEFFS],
+            simd: U::Simd::zeroed(),
+            portable: self.portable,
             damping: self.damping.map(c),
             body: self.body,
             provenance: self.provenance.clone(),
             extensions: self.extensions.clone(),
+        };
+        for k in 0..self.coeff_count() {
+            for set in 0..SETS {
+                if let Some(v) = self.get(set, k) {
+                    // Finite in, finite out (a cast to f32 can overflow to
+                    // infinity; such a coefficient is left zero).
+                    let _ = out.set(set, k, c(v), "coefficient");
+                }
+            }
         }
+        out
     }
 
     /// Changes the degree: truncates (drops l > degree) or zero-extends.
@@ -366,11 +396,12 @@ impl<T: Real> Coefficients<T> {
         }
         let mut out = self.clone();
         out.degree = degree;
-        out.weights = [[T::zero(); ROW]; MAX_COEFFS];
+        out.rows = [[T::zero(); SETS]; MAX_COEFFS];
+        out.simd = T::Simd::zeroed();
         for k in 0..out.coeff_count().min(self.coeff_count()) {
-            if let (Some(from), Some(to)) = (self.row_of(k), out.row_of(k)) {
-                if let (Some(src), Some(dst)) = (self.weights.get(from), out.weights.get_mut(to)) {
-                    *dst = *src;
+            for set in 0..SETS {
+                if let Some(v) = self.get(set, k) {
+                    out.set(set, k, v, "coefficient")?;
                 }
             }
         }

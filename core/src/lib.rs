@@ -4,6 +4,8 @@
 //! and host use: `#![no_std]`, no allocator, no panics.
 //!
 //! * [`sh`]: real orthonormal spherical harmonics `Y_lm` (eqs. 7-8).
+//! * [`lanes`]: eqs. (7)-(8) evaluated with SH orders in SIMD lanes, and the
+//!   coefficient layout that goes with it.
 //! * [`basis`]: the vector basis `E1, E2, E3` of §4.2.
 //! * [`coefficients`]: the coefficient model (alpha, beta, D, provenance, extensions).
 //! * [`aero`]: aerodynamic force and torque, eqs. (5)-(6).
@@ -35,6 +37,7 @@ pub mod crc32;
 pub mod file;
 pub mod integrate;
 pub mod kite;
+pub mod lanes;
 pub mod math;
 pub mod quadrature;
 pub mod rigid_body;

@@ -22,6 +22,11 @@ pub trait Real: RealField + Copy + Default + core::fmt::Debug {
     fn finite(self) -> bool;
     /// The spherical-harmonic recurrence constants in this type.
     fn walk_tables() -> &'static crate::sh::WalkTables<Self>;
+    /// The recurrence constants in the SIMD path's lane layout.
+    fn lane_tables() -> &'static crate::lanes::LaneTables<Self>;
+    /// Coefficient storage of this type's SIMD path
+    /// ([`crate::lanes::SimdCoefficients`]); `()` when it has none.
+    type Simd: crate::lanes::SimdCoefficients<Self>;
     /// `acc[j] += row[j] * y` for every lane. Not fused: each lane rounds
     /// the product, then the sum, exactly like scalar code, so a SIMD
     /// implementation gives bit-identical results.
@@ -65,6 +70,14 @@ impl Real for f32 {
         for (a, &w) in acc.iter_mut().zip(row) {
             *a += w * y;
         }
+    }
+    #[cfg(target_arch = "x86_64")]
+    type Simd = crate::lanes::x86::LaneBlocks;
+    #[cfg(not(target_arch = "x86_64"))]
+    type Simd = ();
+    #[inline(always)]
+    fn lane_tables() -> &'static crate::lanes::LaneTables<Self> {
+        &crate::lanes::LANES_F32
     }
     #[inline(always)]
     fn walk_tables() -> &'static crate::sh::WalkTables<Self> {
@@ -116,6 +129,11 @@ impl Real for f32 {
 }
 
 impl Real for f64 {
+    type Simd = ();
+    #[inline(always)]
+    fn lane_tables() -> &'static crate::lanes::LaneTables<Self> {
+        &crate::lanes::LANES_F64
+    }
     #[inline(always)]
     fn walk_tables() -> &'static crate::sh::WalkTables<Self> {
         &crate::sh::WALK_F64

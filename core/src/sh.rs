@@ -46,21 +46,21 @@ const fn const_sqrt(x: f64) -> f64 {
 }
 
 /// Compile-time recurrence coefficients.
-struct Tables {
+pub(crate) struct Tables {
     /// `a_lm = sqrt((4l²-1)/(l²-m²))`, at `index(l, m)`, for `l >= m+2`.
-    a: [f64; MAX_COEFFS],
+    pub(crate) a: [f64; MAX_COEFFS],
     /// `b_lm = sqrt(((l-1)²-m²)/(4(l-1)²-1))`, at `index(l, m)`.
-    b: [f64; MAX_COEFFS],
+    pub(crate) b: [f64; MAX_COEFFS],
     /// `q_m^m / q_{m-1}^{m-1} = sqrt((2m+1)/(2m))`, at `m`.
-    diag: [f64; MAX_DEGREE + 1],
+    pub(crate) diag: [f64; MAX_DEGREE + 1],
     /// `q_{m+1}^m / (z q_m^m) = sqrt(2m+3)`, at `m`.
-    sub: [f64; MAX_DEGREE + 1],
+    pub(crate) sub: [f64; MAX_DEGREE + 1],
 }
 
 // Indexing in a const initialiser cannot panic at run time: an out-of-range
 // index would be a compile error.
 #[allow(clippy::indexing_slicing)]
-const TABLES: Tables = {
+pub(crate) const TABLES: Tables = {
     let mut t = Tables {
         a: [0.0; MAX_COEFFS],
         b: [0.0; MAX_COEFFS],

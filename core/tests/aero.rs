@@ -73,9 +73,11 @@ fn force_scales_with_speed_squared_and_length_squared() {
     assert!((f3 - f1 * 4.0).norm() < 1e-12);
 }
 
+/// The SIMD path (where this machine has one) agrees with the portable
+/// path to single-precision rounding, and the portable path's f32 sums
+/// with its f64 ones, at every degree and many directions.
 #[test]
-fn simd_row_accumulation_is_bit_identical_to_scalar() {
-    use omniad_core::Real;
+fn simd_and_portable_paths_agree() {
     let mut state = 0x2545_F491_4F6C_DD1Du64;
     let mut next = || {
         state ^= state << 13;
@@ -83,13 +85,48 @@ fn simd_row_accumulation_is_bit_identical_to_scalar() {
         state ^= state << 17;
         (state >> 40) as f32 / (1u64 << 24) as f32 * 2.0 - 1.0
     };
-    for _ in 0..1000 {
-        let row: [f32; 8] = core::array::from_fn(|_| next() * 3.0);
-        let start: [f32; 8] = core::array::from_fn(|_| next());
-        let y = next() * 0.7;
-        let mut simd = start;
-        f32::accumulate_row(&mut simd, &row, y);
-        let scalar: [f32; 8] = core::array::from_fn(|j| start[j] + row[j] * y);
-        assert_eq!(simd.map(f32::to_bits), scalar.map(f32::to_bits));
+    for degree in 0..=12u8 {
+        let mut m = Coefficients::<f32>::zeros(degree, Vector3::z(), 0.58).unwrap();
+        for k in 0..m.coeff_count() {
+            for i in 0..3 {
+                m.set_alpha(i, k, next() * 3.0).unwrap();
+                m.set_beta(i, k, next()).unwrap();
+            }
+        }
+        let wide = m.cast::<f64>();
+        for _ in 0..200 {
+            let e = Vector3::new(next(), next(), next());
+            let Some(e) = e.try_normalize(1e-3) else {
+                continue;
+            };
+            let fast = m.sh_sums(&e);
+            let portable = m.sh_sums_portable(&e);
+            let exact = wide.sh_sums(&e.cast::<f64>());
+            // Rounding scales with the sum of |terms|: at most (N+1)^2
+            // terms of |w Y| <= 3 * 1.3.
+            let scale = 4.0 * m.coeff_count() as f64;
+            for ((f, p), x) in fast.iter().zip(portable).zip(exact) {
+                assert!(
+                    (*f as f64 - x).abs() <= 1e-6 * scale,
+                    "degree {degree}: {f} vs {x}"
+                );
+                assert!(
+                    (p as f64 - x).abs() <= 1e-6 * scale,
+                    "degree {degree}: {p} vs {x}"
+                );
+            }
+        }
     }
+}
+
+/// `set_portable` switches the evaluation to the portable path exactly.
+#[test]
+fn portable_switch_gives_the_portable_bits() {
+    let mut m = hand_model::<f32>();
+    m.set_portable(true);
+    let e = Vector3::new(0.36f32, -0.48, 0.8);
+    assert_eq!(
+        m.sh_sums(&e).map(f32::to_bits),
+        m.sh_sums_portable(&e).map(f32::to_bits)
+    );
 }

@@ -745,14 +745,18 @@ fn replay(args: &ReplayArgs) -> Result<()> {
             run.console.trim()
         );
     }
-    let model = host_model.map_err(|e| anyhow!("coefficient file: {e}"))?;
+    let mut model = host_model.map_err(|e| anyhow!("coefficient file: {e}"))?;
+    // The firmware runs the core's portable path; the host compares against
+    // that same path (its SIMD path agrees only to rounding).
+    model.set_portable(true);
     let summary = run
         .summary
         .ok_or_else(|| anyhow!("the firmware wrote no summary"))?;
     let (host, host_rejects, inputs) = run_host(&model, &wire)?;
     let agreement = compare(&host, &run.telemetry);
 
-    // The core's own f32 path (Coefficients::wrench) against the firmware.
+    // The core's own f32 path (Coefficients::wrench, portable) against the
+    // firmware.
     let core_identical = inputs
         .iter()
         .zip(&run.telemetry)

@@ -272,8 +272,11 @@ fn draw_probe(v: &SphereView, disc: &Disc, inner: Rect, buf: &mut Buffer) {
     }
 }
 
+/// Three decimals; a value that rounds to zero prints as `+0.000` (its
+/// sign is rounding noise and would flicker between evaluation paths).
 fn fmt_vec(v: &Vector3<f64>) -> String {
-    format!("({:+.3} {:+.3} {:+.3})", v.x, v.y, v.z)
+    let c = |x: f64| if x.abs() < 5e-4 { 0.0 } else { x };
+    format!("({:+.3} {:+.3} {:+.3})", c(v.x), c(v.y), c(v.z))
 }
 
 /// Model summary and probe values.
