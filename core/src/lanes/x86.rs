@@ -14,9 +14,9 @@ use crate::sh::MAX_DEGREE;
 use crate::{Coefficients, Wrench};
 use core::arch::x86_64::{
     __cpuid, __m128, __m256, _mm256_add_ps, _mm256_castps256_ps128, _mm256_extractf128_ps,
-    _mm256_fmadd_ps, _mm256_fmsub_ps, _mm256_load_ps, _mm256_mul_ps, _mm256_set1_ps,
-    _mm256_set_m128, _mm256_setzero_ps, _mm_add_ps, _mm_add_ss, _mm_cvtss_f32, _mm_movehl_ps,
-    _mm_mul_ps, _mm_set1_ps, _mm_set_ps, _mm_shuffle_ps, _mm_sub_ps, _xgetbv,
+    _mm256_fmadd_ps, _mm256_fmsub_ps, _mm256_hadd_ps, _mm256_load_ps, _mm256_mul_ps,
+    _mm256_set1_ps, _mm256_set_m128, _mm256_setzero_ps, _mm_add_ps, _mm_mul_ps, _mm_set1_ps,
+    _mm_set_ps, _mm_storeu_ps, _mm_sub_ps, _xgetbv,
 };
 use core::sync::atomic::{AtomicU8, Ordering};
 use nalgebra::Vector3;
@@ -202,13 +202,28 @@ fn add_group(
     }
 }
 
-/// The sum of the eight lanes.
+/// The lane sums of six vectors, by horizontal adds.
 #[target_feature(enable = "avx")]
 #[inline]
-fn lane_sum(v: __m256) -> f32 {
-    let four = _mm_add_ps(_mm256_castps256_ps128(v), _mm256_extractf128_ps::<1>(v));
-    let two = _mm_add_ps(four, _mm_movehl_ps(four, four));
-    _mm_cvtss_f32(_mm_add_ss(two, _mm_shuffle_ps::<0b01>(two, two)))
+fn lane_sums([a, b, c, d, e, f]: [__m256; SETS]) -> [f32; SETS] {
+    let (ab, cd, ef) = (
+        _mm256_hadd_ps(a, b),
+        _mm256_hadd_ps(c, d),
+        _mm256_hadd_ps(e, f),
+    );
+    // Lanes [a b c d] of the low and high halves, then [e f e f].
+    let abcd = _mm256_hadd_ps(ab, cd);
+    let efef = _mm256_hadd_ps(ef, ef);
+    let halves = |v: __m256| _mm_add_ps(_mm256_castps256_ps128(v), _mm256_extractf128_ps::<1>(v));
+    let mut out = Lanes([0.0f32; LANES]);
+    let (first, last) = out.0.split_at_mut(4);
+    // SAFETY: each half of `out` holds four f32 (unaligned stores).
+    unsafe {
+        _mm_storeu_ps(first.as_mut_ptr(), halves(abcd));
+        _mm_storeu_ps(last.as_mut_ptr(), halves(efef));
+    }
+    let [s0, s1, s2, s3, s4, s5, _, _] = out.0;
+    [s0, s1, s2, s3, s4, s5]
 }
 
 /// The six sums of eqs. (7)-(8) with 8-wide AVX and FMA.
@@ -232,19 +247,11 @@ fn accumulate_avx(degree: usize, dir: &Vector3<f32>, blocks: &[Block<f32>; BLOCK
         add_group(&mut acc, blocks, group_ab(t, g, steps), seeds, z);
     }
     let [cos, sin] = acc;
-    let [a, b, c, d, e, f] = [0, 1, 2, 3, 4, 5].map(|i| {
-        let (c, s) = (cos.get(i), sin.get(i));
-        c.zip(s)
-            .map_or(_mm256_setzero_ps(), |(c, s)| _mm256_add_ps(*c, *s))
-    });
-    [
-        lane_sum(a),
-        lane_sum(b),
-        lane_sum(c),
-        lane_sum(d),
-        lane_sum(e),
-        lane_sum(f),
-    ]
+    let mut sums = cos;
+    for (s, t) in sums.iter_mut().zip(sin) {
+        *s = _mm256_add_ps(*s, t);
+    }
+    lane_sums(sums)
 }
 
 #[cfg(test)]
