@@ -40,6 +40,12 @@ pub struct FitConfig {
     /// Lower bound of the refined process noise, as a fraction of the
     /// no-model noise of [`initial_noise`] (default 0.1).
     pub noise_floor: f64,
+    /// How many of the last iterations reconstruct with the filter's
+    /// relinearised sweeps (`filter.relinearise`; the others with none).
+    /// Default 1: the early models are coarse, and with models fitted from
+    /// relinearised early reconstructions the mirror-branch test
+    /// (`Filter::mirror_test`) was seen to pick the wrong branch.
+    pub relinearised_iterations: usize,
 }
 
 impl Default for FitConfig {
@@ -51,6 +57,7 @@ impl Default for FitConfig {
             lsq: LsqConfig::default(),
             filter: FilterConfig::default(),
             noise_floor: 0.1,
+            relinearised_iterations: 1,
         }
     }
 }
@@ -312,7 +319,11 @@ pub fn fit(set: &RecordingSet, cfg: &FitConfig, progress: &dyn Progress) -> Resu
             &format!("iteration {}/{}: filter + smoother", it + 1, cfg.iterations),
             set.takes.len(),
         );
-        let smoothed = reconstruct(set, &model, noise, &cfg.filter, progress)?;
+        let mut filter = cfg.filter.clone();
+        if it + cfg.relinearised_iterations < cfg.iterations {
+            filter.relinearise = 0;
+        }
+        let smoothed = reconstruct(set, &model, noise, &filter, progress)?;
         let mut fstats = ForceStats::default();
         let frames = samples(set, &smoothed, &mut fstats);
         if !frames.iter().any(|s| s.use_force) {
