@@ -40,6 +40,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     if let Some(r) = std::env::var("XR").ok().and_then(|s| s.parse().ok()) {
         cfg.lsq.smoothing = r;
     }
+    if let Some(r) = std::env::var("RELIN").ok().and_then(|s| s.parse().ok()) {
+        cfg.filter.relinearise = r;
+    }
     let out = pipeline::fit(&set, &cfg, &Silent)?;
     let fit_time = start.elapsed().as_secs_f64();
     for (i, r) in out.iterations.iter().enumerate() {
