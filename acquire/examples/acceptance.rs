@@ -58,7 +58,14 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         );
     }
     let noise = pipeline::final_noise(&set, &out, &cfg);
-    let rec = pipeline::reconstruct(&set, &out.model, noise, &cfg.filter, &Silent)?;
+    let rec = pipeline::refine(
+        &set,
+        &out.model,
+        noise,
+        &cfg.filter,
+        &out.reconstruction,
+        &Silent,
+    )?;
     for (label, states) in [
         ("last-iteration", &out.reconstruction),
         ("final-model", &rec),

@@ -35,6 +35,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     noise.accel *= acc;
     noise.angular_accel *= acc;
     let mut fc = FilterConfig::default();
+    if let Some(r) = std::env::var("RELIN").ok().and_then(|s| s.parse().ok()) {
+        fc.relinearise = r;
+    }
     if let Ok(w) = std::env::var("MIRROR_WINDOW") {
         fc.mirror_window = w.parse()?;
     }
@@ -60,7 +63,14 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         noise.torque_walk *= scale;
         noise.accel *= acc;
         noise.angular_accel *= acc;
-        pipeline::reconstruct(&set, &out.model, noise, &cfg.filter, &Silent)?
+        pipeline::refine(
+            &set,
+            &out.model,
+            noise,
+            &cfg.filter,
+            &out.reconstruction,
+            &Silent,
+        )?
     } else if (bias - 1.0).abs() < 1e-12 {
         pipeline::reconstruct(&set, &model, noise, &fc, &Silent)?
     } else {

@@ -34,6 +34,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         smoothed.push(Smoothed {
             times: truth.iter().map(|r| r[0]).collect(),
             states,
+            cuts: Vec::new(),
             stats: FilterStats::default(),
         });
     }
@@ -82,10 +83,15 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             let truth = read_states(&dir.join("truth").join(format!("{}.csv", take.name)))?;
             total.add(&omniad_acquire::truth::state_error(s, &truth));
         }
+        let mut st = ForceStats::default();
+        let rec_frames = pipeline::samples(&set, &rec, &mut st);
+        let refit = pipeline::fit_samples(&base, &rec_frames, &set, &cfg)?;
+        let (e2, _) = force_error(&refit, &truth, &dirs, 20, 15f64.to_radians());
         println!(
-            "walk x{ws} accel x{acc} ang x{ang}: position RMS {:.2} cm, orientation RMS {:.2} deg",
+            "walk x{ws} accel x{acc} ang x{ang}: position RMS {:.2} cm, orientation RMS {:.2} deg, refit C_F {:.2} %",
             total.position_rms() * 100.0,
-            total.angle_rms().to_degrees()
+            total.angle_rms().to_degrees(),
+            e2 * 100.0
         );
     }
     Ok(())

@@ -127,6 +127,9 @@ pub struct Smoothed {
     pub times: Vec<f64>,
     /// Smoothed states.
     pub states: Vec<State<f64>>,
+    /// Per epoch: the filter moved to the other mirror-image branch there,
+    /// so the smoother does not link it to the epoch before (empty: none).
+    pub cuts: Vec<bool>,
     /// Counts.
     pub stats: FilterStats,
 }
@@ -185,6 +188,45 @@ impl Filter<'_> {
         Smoothed {
             times: epochs.iter().map(|e| e.t).collect(),
             states: smoothed.into_iter().map(|s| s.body).collect(),
+            cuts: switched,
+            stats,
+        }
+    }
+
+    /// Smooths one take again with this filter's model, starting the
+    /// relinearised sweeps (at least one) from `previous`, a smoothed
+    /// trajectory of the same take made by [`Self::run`] with an earlier
+    /// model, keeping its mirror-image branch and its cuts; the prior of the
+    /// first epoch is still `initial`. No branch tests are made: they
+    /// predict with the model, and with some fitted models they were seen to
+    /// pick wrong branches that the earlier run had right. The unexplained
+    /// wrench of the reference is zero (the new model's prediction); the
+    /// dynamics are linear in it.
+    pub fn refine(&self, epochs: &[Epoch], initial: State<f64>, previous: &Smoothed) -> Smoothed {
+        if previous.states.len() != epochs.len() {
+            return self.run(epochs, initial);
+        }
+        let reference: Vec<FilterState> = previous
+            .states
+            .iter()
+            .map(|s| FilterState::new(*s))
+            .collect();
+        let stats = FilterStats {
+            mirror_switches: previous.stats.mirror_switches,
+            ..FilterStats::default()
+        };
+        let (smoothed, stats) = self.relinearise(
+            epochs,
+            FilterState::new(initial),
+            reference,
+            &previous.cuts,
+            stats,
+            self.config.relinearise.max(1),
+        );
+        Smoothed {
+            times: epochs.iter().map(|e| e.t).collect(),
+            states: smoothed.into_iter().map(|s| s.body).collect(),
+            cuts: previous.cuts.clone(),
             stats,
         }
     }
