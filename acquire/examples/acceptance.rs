@@ -102,6 +102,15 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         "C_F relative L2 error {:.2} % over {n} grid directions",
         err * 100.0
     );
+    let ctx = omniad_acquire::fit_lsq::FitContext {
+        air_density: set.world.air_density,
+        reference_length: set.object.reference_length,
+        pole: set.object.pole,
+    };
+    println!(
+        "last fit's smoothing weight {}",
+        omniad_acquire::fit_lsq::force_smoothing(&out.samples, &ctx, &cfg.lsq)
+    );
     println!("D = {:?}", out.model.damping());
     println!("fit wall time {fit_time:.2} s");
     Ok(())
