@@ -1,5 +1,9 @@
 //! Measures the issue-3 acceptance numbers on a synthetic recording set:
-//! `cargo run --release -p omniad-acquire --example acceptance -- SET [method]`.
+//! `cargo run --release -p omniad-acquire --example acceptance -- SET [method]
+//! [iterations]`. Environment knobs (diagnostics only): `FLOOR` (noise
+//! floor), `MIRROR_WINDOW`, `XR` (a fixed smoothing weight instead of the
+//! cross-validated one), `RELIN` (`filter.relinearise`),
+//! `RELIN_ITS` (`relinearised_iterations`).
 
 use omniad_acquire::pipeline::{self, FitConfig, Method, Silent};
 use omniad_acquire::recording::RecordingSet;
@@ -39,6 +43,13 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     }
     if let Some(r) = std::env::var("XR").ok().and_then(|s| s.parse().ok()) {
         cfg.lsq.smoothing = r;
+        cfg.lsq.cross_validate = false;
+    }
+    if let Some(r) = std::env::var("RELIN").ok().and_then(|s| s.parse().ok()) {
+        cfg.filter.relinearise = r;
+    }
+    if let Some(r) = std::env::var("RELIN_ITS").ok().and_then(|s| s.parse().ok()) {
+        cfg.relinearised_iterations = r;
     }
     let out = pipeline::fit(&set, &cfg, &Silent)?;
     let fit_time = start.elapsed().as_secs_f64();
@@ -55,7 +66,14 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         );
     }
     let noise = pipeline::final_noise(&set, &out, &cfg);
-    let rec = pipeline::reconstruct(&set, &out.model, noise, &cfg.filter, &Silent)?;
+    let rec = pipeline::refine(
+        &set,
+        &out.model,
+        noise,
+        &cfg.filter,
+        &out.reconstruction,
+        &Silent,
+    )?;
     for (label, states) in [
         ("last-iteration", &out.reconstruction),
         ("final-model", &rec),
@@ -91,6 +109,22 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     println!(
         "C_F relative L2 error {:.2} % over {n} grid directions",
         err * 100.0
+    );
+    for min in [60, 150, 400] {
+        let (e, n) = force_error(&out.model, &truth, &dirs, min, 15f64.to_radians());
+        println!(
+            "  C_F over {n} directions with >= {min} frames: {:.2} %",
+            e * 100.0
+        );
+    }
+    let ctx = omniad_acquire::fit_lsq::FitContext {
+        air_density: set.world.air_density,
+        reference_length: set.object.reference_length,
+        pole: set.object.pole,
+    };
+    println!(
+        "last fit's smoothing weight {}",
+        omniad_acquire::fit_lsq::force_smoothing(&out.samples, &ctx, &cfg.lsq)
     );
     println!("D = {:?}", out.model.damping());
     println!("fit wall time {fit_time:.2} s");

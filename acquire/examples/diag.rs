@@ -35,6 +35,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     noise.accel *= acc;
     noise.angular_accel *= acc;
     let mut fc = FilterConfig::default();
+    if let Some(r) = std::env::var("RELIN").ok().and_then(|s| s.parse().ok()) {
+        fc.relinearise = r;
+    }
     if let Ok(w) = std::env::var("MIRROR_WINDOW") {
         fc.mirror_window = w.parse()?;
     }
@@ -44,9 +47,30 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         if let Ok(w) = std::env::var("MIRROR_WINDOW") {
             cfg.filter.mirror_window = w.parse()?;
         }
+        if let Some(r) = std::env::var("RELIN").ok().and_then(|s| s.parse().ok()) {
+            cfg.filter.relinearise = r;
+        }
         let out = pipeline::fit(&set, &cfg, &Silent)?;
-        let noise = pipeline::final_noise(&set, &out, &cfg);
-        pipeline::reconstruct(&set, &out.model, noise, &cfg.filter, &Silent)?
+        if let Some(r) = std::env::var("RELIN_FINAL")
+            .ok()
+            .and_then(|s| s.parse().ok())
+        {
+            cfg.filter.relinearise = r;
+        }
+        let mut noise = pipeline::final_noise(&set, &out, &cfg);
+        println!("final noise {noise:?}");
+        noise.force_walk *= scale;
+        noise.torque_walk *= scale;
+        noise.accel *= acc;
+        noise.angular_accel *= acc;
+        pipeline::refine(
+            &set,
+            &out.model,
+            noise,
+            &cfg.filter,
+            &out.reconstruction,
+            &Silent,
+        )?
     } else if (bias - 1.0).abs() < 1e-12 {
         pipeline::reconstruct(&set, &model, noise, &fc, &Silent)?
     } else {

@@ -26,6 +26,8 @@ use crate::tracks::{Epoch, MarkerSighting, Observation};
 use nalgebra::{Matrix3, Rotation3, SMatrix, UnitQuaternion, Vector3};
 use omniad_core::State;
 
+mod iterated;
+
 /// Consecutive fully-gated frames after which gating is suspended once.
 pub const LOST_FRAMES: usize = 3;
 
@@ -74,6 +76,9 @@ pub struct FilterConfig {
     /// ahead (see `Filter::mirror_test`); 0 turns the tests off
     /// (default [`MIRROR_WINDOW`]).
     pub mirror_window: usize,
+    /// Most sweeps linearised about the previous smoothed trajectory after
+    /// the passes (see [`iterated`]; default 3, 0 turns them off).
+    pub relinearise: usize,
 }
 
 impl Default for FilterConfig {
@@ -89,6 +94,7 @@ impl Default for FilterConfig {
             update_iterations: 4,
             passes: 2,
             mirror_window: MIRROR_WINDOW,
+            relinearise: 3,
         }
     }
 }
@@ -121,6 +127,9 @@ pub struct Smoothed {
     pub times: Vec<f64>,
     /// Smoothed states.
     pub states: Vec<State<f64>>,
+    /// Per epoch: the filter moved to the other mirror-image branch there,
+    /// so the smoother does not link it to the epoch before (empty: none).
+    pub cuts: Vec<bool>,
     /// Counts.
     pub stats: FilterStats,
 }
@@ -158,18 +167,66 @@ impl Filter<'_> {
     /// the counts are those of the last pass.
     pub fn run(&self, epochs: &[Epoch], initial: State<f64>) -> Smoothed {
         let mut start = FilterState::new(initial);
-        let mut result = (Vec::new(), FilterStats::default());
+        let mut result = (Vec::new(), FilterStats::default(), Vec::new());
         for _ in 0..self.config.passes.max(1) {
             let mut stats = FilterStats::default();
             let steps = self.forward(epochs, start, &mut stats);
             let smoothed = smooth(&steps);
             start = smoothed.first().copied().unwrap_or(start);
-            result = (smoothed, stats);
+            let switched: Vec<bool> = steps.iter().map(|s| s.switched).collect();
+            result = (smoothed, stats, switched);
         }
-        let (smoothed, stats) = result;
+        let (smoothed, stats, switched) = result;
+        let (smoothed, stats) = self.relinearise(
+            epochs,
+            FilterState::new(initial),
+            smoothed,
+            &switched,
+            stats,
+            self.config.relinearise,
+        );
         Smoothed {
             times: epochs.iter().map(|e| e.t).collect(),
             states: smoothed.into_iter().map(|s| s.body).collect(),
+            cuts: switched,
+            stats,
+        }
+    }
+
+    /// Smooths one take again with this filter's model, starting the
+    /// relinearised sweeps (at least one) from `previous`, a smoothed
+    /// trajectory of the same take made by [`Self::run`] with an earlier
+    /// model, keeping its mirror-image branch and its cuts; the prior of the
+    /// first epoch is still `initial`. No branch tests are made: they
+    /// predict with the model, and with some fitted models they were seen to
+    /// pick wrong branches that the earlier run had right. The unexplained
+    /// wrench of the reference is zero (the new model's prediction); the
+    /// dynamics are linear in it.
+    pub fn refine(&self, epochs: &[Epoch], initial: State<f64>, previous: &Smoothed) -> Smoothed {
+        if previous.states.len() != epochs.len() {
+            return self.run(epochs, initial);
+        }
+        let reference: Vec<FilterState> = previous
+            .states
+            .iter()
+            .map(|s| FilterState::new(*s))
+            .collect();
+        let stats = FilterStats {
+            mirror_switches: previous.stats.mirror_switches,
+            ..FilterStats::default()
+        };
+        let (smoothed, stats) = self.relinearise(
+            epochs,
+            FilterState::new(initial),
+            reference,
+            &previous.cuts,
+            stats,
+            self.config.relinearise.max(1),
+        );
+        Smoothed {
+            times: epochs.iter().map(|e| e.t).collect(),
+            states: smoothed.into_iter().map(|s| s.body).collect(),
+            cuts: previous.cuts.clone(),
             stats,
         }
     }
@@ -231,8 +288,14 @@ impl Filter<'_> {
                 }
             };
             prev_t = e.t;
-            let (mut filtered, mut filtered_cov) =
-                self.update(&e.observation, &predicted, &predicted_cov, &mut lost, stats);
+            let (mut filtered, mut filtered_cov) = self.update(
+                &e.observation,
+                &predicted,
+                &predicted,
+                &predicted_cov,
+                &mut lost,
+                stats,
+            );
             let mut switched = false;
             let scanning = scan_until.is_some_and(|k| i <= k);
             if !finite(&filtered) || filtered_cov.iter().any(|v| !v.is_finite()) {
@@ -285,9 +348,13 @@ impl Filter<'_> {
         out
     }
 
+    /// The measurement update of prior `x`, `p`; the Gauss-Newton iterations
+    /// of a marker update start from `start` (the prior itself, or the
+    /// previous sweep's smoothed state when relinearising).
     fn update(
         &self,
         obs: &Observation,
+        start: &FilterState,
         x: &FilterState,
         p: &Cov,
         lost: &mut usize,
@@ -305,7 +372,7 @@ impl Filter<'_> {
                     return (*x, *p);
                 }
                 *lost = 0;
-                let (_, post, cov) = self.update_markers_robust(accepted, x, p, stats);
+                let (_, post, cov) = self.update_markers_robust(accepted, start, x, p, stats);
                 (post, cov)
             }
             Observation::Pose(y, q) => self.update_pose(y, q, x, p, stats),
@@ -357,12 +424,13 @@ impl Filter<'_> {
     fn update_markers_robust(
         &self,
         mut list: Vec<MarkerSighting>,
+        start: &FilterState,
         x: &FilterState,
         p: &Cov,
         stats: &mut FilterStats,
     ) -> (Vec<MarkerSighting>, FilterState, Cov) {
         loop {
-            let (post, cov) = self.update_markers(&list, x, x, p);
+            let (post, cov) = self.update_markers(&list, start, x, p);
             let worst = self.worst_marker(&list, &post);
             match worst {
                 Some((i, r)) if list.len() > 3 && r > POSTERIOR_GATE * self.config.pixel_noise => {
@@ -529,7 +597,7 @@ impl Filter<'_> {
                     nll += d2.min(self.config.marker_gate);
                 }
             }
-            (x, p) = self.update(&e.observation, &xn, &pn, &mut lost, &mut stats);
+            (x, p) = self.update(&e.observation, &xn, &xn, &pn, &mut lost, &mut stats);
         }
         nll
     }

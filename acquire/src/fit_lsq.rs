@@ -11,6 +11,7 @@
 //! dense direction grid by penalty rows.
 
 use crate::damping::{matrix, omega_map, positive_definite};
+use crate::fit_cv::Normals;
 use crate::forces::Sample;
 use crate::recording::TakeKind;
 use nalgebra::{DMatrix, DVector, Vector3};
@@ -23,8 +24,13 @@ pub struct LsqConfig {
     /// SH degree N.
     pub degree: usize,
     /// Smoothing weight relative to the mean data weight per coefficient
-    /// (dimensionless; default 1e-3).
+    /// (dimensionless; default 1e-3). The force fit chooses its own by
+    /// cross-validation when `cross_validate` is set and there are enough
+    /// takes (see [`crate::fit_cv`]).
     pub smoothing: f64,
+    /// Choose the force fit's smoothing weight by leave-one-take-out
+    /// cross-validation (default true).
+    pub cross_validate: bool,
     /// Smallest allowed eigenvalue of D relative to its largest (default 1e-3).
     pub damping_floor: f64,
     /// Required margin of `-C_F(E)·E` (default 1e-3).
@@ -36,6 +42,7 @@ impl Default for LsqConfig {
         Self {
             degree: 8,
             smoothing: 1e-3,
+            cross_validate: true,
             damping_floor: 1e-3,
             thrust_margin: 1e-3,
         }
@@ -81,11 +88,32 @@ fn roughness(degree: usize) -> Vec<f64> {
         .collect()
 }
 
-/// Adds `λ · scale · l(l+1)` (plus a tiny ridge) to the diagonal blocks of `ata`.
+/// Adds `λ · scale · l(l+1)` (plus a tiny ridge) to the diagonal blocks of
+/// `ata`, `scale` the mean data weight per coefficient.
 fn regularise(ata: &mut DMatrix<f64>, blocks: usize, degree: usize, smoothing: f64) {
+    let scale = data_scale(ata, blocks * coeff_count(degree));
+    regularise_scaled(ata, blocks, degree, smoothing, scale);
+}
+
+/// The mean of the first `n` diagonal entries (1 when not positive).
+fn data_scale(ata: &DMatrix<f64>, n: usize) -> f64 {
+    let scale = (0..n).map(|i| ata[(i, i)]).sum::<f64>() / n.max(1) as f64;
+    if scale > 0.0 {
+        scale
+    } else {
+        1.0
+    }
+}
+
+/// [`regularise`] with a given `scale`.
+fn regularise_scaled(
+    ata: &mut DMatrix<f64>,
+    blocks: usize,
+    degree: usize,
+    smoothing: f64,
+    scale: f64,
+) {
     let n = coeff_count(degree);
-    let scale = (0..blocks * n).map(|i| ata[(i, i)]).sum::<f64>() / (blocks * n) as f64;
-    let scale = if scale > 0.0 { scale } else { 1.0 };
     let rough = roughness(degree);
     for b in 0..blocks {
         for (k, r) in rough.iter().enumerate() {
@@ -116,27 +144,59 @@ fn force_frames(samples: &[Sample]) -> Vec<&Sample> {
         .collect()
 }
 
-/// Fits alpha (force), enforcing no thrust.
-pub fn fit_force(samples: &[Sample], ctx: &FitContext, cfg: &LsqConfig) -> [Vec<f64>; 3] {
-    let n = coeff_count(cfg.degree);
+/// The force fit's normal equations per take and in total: row `a` =
+/// `q L² Y(E)` per frame, right-hand sides the force along each `E^i`.
+fn force_normals(samples: &[Sample], ctx: &FitContext, degree: usize) -> (Vec<Normals>, Normals) {
+    let n = coeff_count(degree);
     let l2 = ctx.reference_length.powi(2);
-    let mut ata = DMatrix::<f64>::zeros(n, n);
-    let mut atb = [
-        DVector::<f64>::zeros(n),
-        DVector::zeros(n),
-        DVector::zeros(n),
-    ];
+    let mut takes: Vec<(usize, Normals)> = Vec::new();
     for s in force_frames(samples) {
         let speed = s.velocity.norm();
-        let e = s.velocity / speed;
-        let (y, basis) = sh_and_basis(cfg.degree, &e, &ctx.pole);
+        let (y, basis) = sh_and_basis(degree, &(s.velocity / speed), &ctx.pole);
         let a = DVector::from_vec(y) * (0.5 * ctx.air_density * speed * speed * l2);
-        ata.ger(1.0, &a, &a, 1.0);
-        for (rhs, b) in atb.iter_mut().zip(&basis) {
-            rhs.axpy(s.force.dot(b), &a, 1.0);
+        let at = match takes.iter().position(|(t, _)| *t == s.take) {
+            Some(i) => i,
+            None => {
+                takes.push((s.take, Normals::zeros(n)));
+                takes.len() - 1
+            }
+        };
+        let Some((_, nt)) = takes.get_mut(at) else {
+            continue;
+        };
+        nt.ata.ger(1.0, &a, &a, 1.0);
+        for (rhs, b) in nt.atb.iter_mut().zip(&basis) {
+            let target = s.force.dot(b);
+            rhs.axpy(target, &a, 1.0);
+            nt.btb += target * target;
         }
     }
-    regularise(&mut ata, 1, cfg.degree, cfg.smoothing);
+    let takes: Vec<Normals> = takes.into_iter().map(|(_, t)| t).collect();
+    let mut total = Normals::zeros(n);
+    for t in &takes {
+        total.add(t);
+    }
+    (takes, total)
+}
+
+/// The force fit's smoothing weight: `cfg.smoothing`, or the
+/// cross-validated choice ([`crate::fit_cv`]) when `cfg.cross_validate`.
+pub fn force_smoothing(samples: &[Sample], ctx: &FitContext, cfg: &LsqConfig) -> f64 {
+    if !cfg.cross_validate {
+        return cfg.smoothing;
+    }
+    let (takes, total) = force_normals(samples, ctx, cfg.degree);
+    let scale = data_scale(&total.ata, coeff_count(cfg.degree));
+    crate::fit_cv::choose(&takes, &total, cfg.smoothing, |m, lambda| {
+        regularise_scaled(m, 1, cfg.degree, lambda, scale);
+    })
+}
+
+/// Fits alpha (force), enforcing no thrust.
+pub fn fit_force(samples: &[Sample], ctx: &FitContext, cfg: &LsqConfig) -> [Vec<f64>; 3] {
+    let smoothing = force_smoothing(samples, ctx, cfg);
+    let (_, Normals { mut ata, atb, .. }) = force_normals(samples, ctx, cfg.degree);
+    regularise(&mut ata, 1, cfg.degree, smoothing);
     let [b1, b2, b3] = atb;
     let alpha1 = enforce_no_thrust(ata.clone(), b1, cfg);
     [
@@ -370,6 +430,41 @@ mod tests {
             model.damping(),
             truth.damping()
         );
+    }
+
+    /// Frames of `truth` spread over five takes, each take's forces off by
+    /// a take-constant body-frame vector of size `offset` x the force scale.
+    fn takes_with_offsets(truth: &omniad_core::Coefficients<f64>, offset: f64) -> Vec<Sample> {
+        let mut rng = Rng::new(9);
+        let bias: Vec<Vector3<f64>> = (0..5).map(|_| rng.direction() * offset).collect();
+        samples(truth, 1500, TakeKind::Drop)
+            .into_iter()
+            .enumerate()
+            .map(|(i, mut s)| {
+                s.take = i % 5;
+                let q = 0.5 * 1.2 * s.velocity.norm_squared() * truth.reference_length().powi(2);
+                s.force += bias.get(s.take).copied().unwrap_or_default() * q;
+                s
+            })
+            .collect()
+    }
+
+    #[test]
+    fn cross_validation_smooths_noisy_takes_more() {
+        let truth = truth_model(&ObjectSpec::of(SynthObject::Box), 6).expect("model");
+        let ctx = FitContext {
+            air_density: 1.2,
+            reference_length: truth.reference_length(),
+            pole: truth.pole(),
+        };
+        let cfg = LsqConfig {
+            degree: 6,
+            ..LsqConfig::default()
+        };
+        let clean = force_smoothing(&takes_with_offsets(&truth, 0.0), &ctx, &cfg);
+        let noisy = force_smoothing(&takes_with_offsets(&truth, 0.5), &ctx, &cfg);
+        assert!(clean <= 1e-3, "clean frames smoothed by {clean}");
+        assert!(noisy > clean, "noisy takes smoothed by {noisy} <= {clean}");
     }
 
     #[test]

@@ -12,6 +12,7 @@ pub mod coverage;
 pub mod damping;
 pub mod error;
 pub mod filter;
+pub mod fit_cv;
 pub mod fit_lsq;
 pub mod fit_paper;
 pub mod forces;

@@ -40,6 +40,13 @@ pub struct FitConfig {
     /// Lower bound of the refined process noise, as a fraction of the
     /// no-model noise of [`initial_noise`] (default 0.1).
     pub noise_floor: f64,
+    /// How many of the last iterations reconstruct with the filter's
+    /// relinearised sweeps (`filter.relinearise`; the others with none).
+    /// Default 1: with models fitted from relinearised early
+    /// reconstructions, the mirror-branch test (`Filter::mirror_test`)
+    /// was seen to pick wrong branches (the model-free first iteration
+    /// picks wrong ones too, so later iterations must test afresh).
+    pub relinearised_iterations: usize,
 }
 
 impl Default for FitConfig {
@@ -51,6 +58,7 @@ impl Default for FitConfig {
             lsq: LsqConfig::default(),
             filter: FilterConfig::default(),
             noise_floor: 0.1,
+            relinearised_iterations: 1,
         }
     }
 }
@@ -194,14 +202,13 @@ fn initial_state(
     }
 }
 
-/// Smooths every take with `model` and `noise`.
-pub fn reconstruct(
-    set: &RecordingSet,
-    model: &Coefficients<f64>,
+/// The filter of a set with `model` and `noise`.
+fn filter<'a>(
+    set: &'a RecordingSet,
+    model: &'a Coefficients<f64>,
     noise: ProcessNoise,
     cfg: &FilterConfig,
-    progress: &dyn Progress,
-) -> Result<Vec<Smoothed>> {
+) -> Result<Filter<'a>> {
     let body = RigidBody::new(set.object.mass, set.object.inertia)
         .map_err(|e| Error::Data(format!("object: {e}")))?;
     let mut config = cfg.clone();
@@ -219,17 +226,47 @@ pub fn reconstruct(
     };
     let (force, torque, _) = scales(set);
     config.initial_bias = [force, torque];
-    let filter = Filter {
+    Ok(Filter {
         process,
         object: &set.object,
         camera: set.camera.as_ref(),
         config,
-    };
+    })
+}
+
+/// Smooths every take with `model` and `noise` from the takes' rough
+/// initial guesses.
+pub fn reconstruct(
+    set: &RecordingSet,
+    model: &Coefficients<f64>,
+    noise: ProcessNoise,
+    cfg: &FilterConfig,
+    progress: &dyn Progress,
+) -> Result<Vec<Smoothed>> {
+    refine(set, model, noise, cfg, &[], progress)
+}
+
+/// Smooths every take with `model` and `noise`, relinearising about the
+/// take's trajectory in `previous` (one per take, from an earlier model;
+/// see [`Filter::refine`]); takes without one are reconstructed from their
+/// rough initial guess.
+pub fn refine(
+    set: &RecordingSet,
+    model: &Coefficients<f64>,
+    noise: ProcessNoise,
+    cfg: &FilterConfig,
+    previous: &[Smoothed],
+    progress: &dyn Progress,
+) -> Result<Vec<Smoothed>> {
+    let filter = filter(set, model, noise, cfg)?;
     let mut out = Vec::with_capacity(set.takes.len());
-    for take in &set.takes {
+    for (i, take) in set.takes.iter().enumerate() {
         let initial = initial_state(&take.epochs, take.initial)
             .map_err(|e| Error::Data(format!("take {}: {e}", take.name)))?;
-        out.push(filter.run(&take.epochs, initial));
+        out.push(match previous.get(i) {
+            Some(p) => filter.refine(&take.epochs, initial, p),
+            None => filter.run(&take.epochs, initial),
+        });
         progress.tick();
     }
     Ok(out)
@@ -312,7 +349,11 @@ pub fn fit(set: &RecordingSet, cfg: &FitConfig, progress: &dyn Progress) -> Resu
             &format!("iteration {}/{}: filter + smoother", it + 1, cfg.iterations),
             set.takes.len(),
         );
-        let smoothed = reconstruct(set, &model, noise, &cfg.filter, progress)?;
+        let mut filter = cfg.filter.clone();
+        if it + cfg.relinearised_iterations < cfg.iterations {
+            filter.relinearise = 0;
+        }
+        let smoothed = reconstruct(set, &model, noise, &filter, progress)?;
         let mut fstats = ForceStats::default();
         let frames = samples(set, &smoothed, &mut fstats);
         if !frames.iter().any(|s| s.use_force) {

@@ -35,8 +35,15 @@ pub fn run(a: &ReconstructArgs) -> Result<()> {
     let outcome = pipeline::fit(&set, &cfg, &bars).map_err(|e| anyhow::anyhow!("{e}"))?;
     let noise = pipeline::final_noise(&set, &outcome, &cfg);
     bars.stage_final(set.takes.len());
-    let smoothed = pipeline::reconstruct(&set, &outcome.model, noise, &cfg.filter, &bars)
-        .map_err(|e| anyhow::anyhow!("{e}"))?;
+    let smoothed = pipeline::refine(
+        &set,
+        &outcome.model,
+        noise,
+        &cfg.filter,
+        &outcome.reconstruction,
+        &bars,
+    )
+    .map_err(|e| anyhow::anyhow!("{e}"))?;
     drop(bars);
     std::fs::create_dir_all(&a.output)
         .with_context(|| format!("cannot create {}", a.output.display()))?;

@@ -1,0 +1,98 @@
+//! Fit error alone: forces (eqs. 9-10) from the TRUE states in `truth/`,
+//! fitted with the pipeline's least-squares fit, C_F error against
+//! `truth/coefficients.csv`:
+//! `cargo run --release -p omniad-acquire --example truthfit -- SET [smoothing]`.
+
+use nalgebra::{Quaternion, UnitQuaternion, Vector3};
+use omniad_acquire::filter::{FilterStats, Smoothed};
+use omniad_acquire::forces::ForceStats;
+use omniad_acquire::model::zero_model;
+use omniad_acquire::pipeline::{self, FitConfig};
+use omniad_acquire::recording::RecordingSet;
+use omniad_acquire::truth::{force_error, read_coefficients, read_states};
+use omniad_core::State;
+use std::path::Path;
+
+fn main() -> Result<(), Box<dyn std::error::Error>> {
+    let args: Vec<String> = std::env::args().collect();
+    let dir = Path::new(args.get(1).ok_or("usage: truthfit SET")?);
+    let set = RecordingSet::load(dir)?;
+    let mut smoothed = Vec::new();
+    for take in &set.takes {
+        let truth = read_states(&dir.join("truth").join(format!("{}.csv", take.name)))?;
+        let states = truth
+            .iter()
+            .map(|r| State {
+                position: Vector3::new(r[1], r[2], r[3]),
+                orientation: UnitQuaternion::from_quaternion(Quaternion::new(
+                    r[4], r[5], r[6], r[7],
+                )),
+                velocity: Vector3::new(r[8], r[9], r[10]),
+                angular_velocity: Vector3::new(r[11], r[12], r[13]),
+            })
+            .collect();
+        smoothed.push(Smoothed {
+            times: truth.iter().map(|r| r[0]).collect(),
+            states,
+            cuts: Vec::new(),
+            stats: FilterStats::default(),
+        });
+    }
+    let mut cfg = FitConfig::default();
+    if let Some(x) = args.get(2).and_then(|s| s.parse().ok()) {
+        cfg.lsq.smoothing = x;
+    }
+    if let Some(r) = std::env::var("RELIN").ok().and_then(|s| s.parse().ok()) {
+        cfg.filter.relinearise = r;
+    }
+    let mut stats = ForceStats::default();
+    let frames = pipeline::samples(&set, &smoothed, &mut stats);
+    let base = zero_model(&set.object, cfg.degree)?;
+    let model = pipeline::fit_samples(&base, &frames, &set, &cfg)?;
+    let truth = read_coefficients(&dir.join("truth/coefficients.csv"))?;
+    let dirs: Vec<_> = frames
+        .iter()
+        .filter(|s| s.use_force && s.velocity.norm() > 0.0)
+        .map(|s| s.velocity.normalize())
+        .collect();
+    let (err, n) = force_error(&model, &truth, &dirs, 20, 15f64.to_radians());
+    println!("{stats:?}");
+    println!(
+        "truth-state fit: C_F rel. L2 {:.2} % over {n} directions",
+        err * 100.0
+    );
+    // Reconstruct with the truth-fitted model at several walk scales.
+    let first = pipeline::initial_noise(&set);
+    for (ws, acc, ang) in [
+        (0.1, 0.3, 1.0),
+        (0.1, 0.1, 1.0),
+        (0.03, 0.3, 1.0),
+        (0.03, 0.1, 1.0),
+        (0.01, 0.1, 1.0),
+        (0.03, 1.0, 0.3),
+    ] {
+        let noise = pipeline::ProcessNoise {
+            force_walk: first.force_walk * ws,
+            torque_walk: first.torque_walk * ws,
+            accel: first.accel * acc,
+            angular_accel: first.angular_accel * ang,
+        };
+        let rec = pipeline::reconstruct(&set, &model, noise, &cfg.filter, &pipeline::Silent)?;
+        let mut total = omniad_acquire::truth::StateError::default();
+        for (take, s) in set.takes.iter().zip(&rec) {
+            let truth = read_states(&dir.join("truth").join(format!("{}.csv", take.name)))?;
+            total.add(&omniad_acquire::truth::state_error(s, &truth));
+        }
+        let mut st = ForceStats::default();
+        let rec_frames = pipeline::samples(&set, &rec, &mut st);
+        let refit = pipeline::fit_samples(&base, &rec_frames, &set, &cfg)?;
+        let (e2, _) = force_error(&refit, &truth, &dirs, 20, 15f64.to_radians());
+        println!(
+            "walk x{ws} accel x{acc} ang x{ang}: position RMS {:.2} cm, orientation RMS {:.2} deg, refit C_F {:.2} %",
+            total.position_rms() * 100.0,
+            total.angle_rms().to_degrees(),
+            e2 * 100.0
+        );
+    }
+    Ok(())
+}
