@@ -16,7 +16,7 @@ use core::arch::x86_64::{
     __cpuid, __m128, __m256, _mm256_add_ps, _mm256_castps256_ps128, _mm256_extractf128_ps,
     _mm256_fmadd_ps, _mm256_fmsub_ps, _mm256_hadd_ps, _mm256_load_ps, _mm256_mul_ps,
     _mm256_set1_ps, _mm256_set_m128, _mm256_setzero_ps, _mm_add_ps, _mm_mul_ps, _mm_set1_ps,
-    _mm_set_ps, _mm_storeu_ps, _mm_sub_ps, _xgetbv,
+    _mm_set_ps, _mm_setzero_ps, _mm_storeu_ps, _mm_sub_ps, _xgetbv,
 };
 use core::sync::atomic::{AtomicU8, Ordering};
 use nalgebra::Vector3;
@@ -154,7 +154,7 @@ fn load(v: &Lanes<f32>) -> __m256 {
 /// `m = 0..16`, as four 4-lane pairs.
 #[target_feature(enable = "avx")]
 #[inline]
-fn powers(dir: &Vector3<f32>) -> [(__m128, __m128); 4] {
+fn powers(degree: usize, dir: &Vector3<f32>) -> [(__m128, __m128); 4] {
     let [w1, w2, w3, u] = first_powers(dir);
     let (ur, ui) = (_mm_set1_ps(u.0), _mm_set1_ps(u.1));
     let times_u = |(re, im): (__m128, __m128)| {
@@ -169,7 +169,13 @@ fn powers(dir: &Vector3<f32>) -> [(__m128, __m128); 4] {
     );
     let w4_7 = times_u(w0_3);
     let w8_11 = times_u(w4_7);
-    [w0_3, w4_7, w8_11, times_u(w8_11)]
+    // Orders 12.. only exist at the maximum degree.
+    let w12_15 = if degree >= 12 {
+        times_u(w8_11)
+    } else {
+        (_mm_setzero_ps(), _mm_setzero_ps())
+    };
+    [w0_3, w4_7, w8_11, w12_15]
 }
 
 /// Steps 2-3 for one group, added into `acc` lane by lane: cosine and
@@ -232,7 +238,7 @@ fn lane_sums([a, b, c, d, e, f]: [__m256; SETS]) -> [f32; SETS] {
 fn accumulate_avx(degree: usize, dir: &Vector3<f32>, blocks: &[Block<f32>; BLOCKS]) -> [f32; SETS] {
     let degree = degree.min(MAX_DEGREE);
     let t = &LANES_F32;
-    let [p0, p1, p2, p3] = powers(dir);
+    let [p0, p1, p2, p3] = powers(degree, dir);
     let halves = [(p0, p1), (p2, p3)];
     let z = _mm256_set1_ps(dir.z);
     let mut acc = [[_mm256_setzero_ps(); SETS]; 2];
