@@ -754,6 +754,7 @@ mod tests {
                 angular_accel_noise: 1.0,
                 force_walk: 0.1,
                 torque_walk: 0.01,
+                bias_time: f64::INFINITY,
             },
             object: &object,
             camera: Some(&camera),
