@@ -211,16 +211,12 @@ impl Filter<'_> {
             .iter()
             .map(|s| FilterState::new(*s))
             .collect();
-        let stats = FilterStats {
-            mirror_switches: previous.stats.mirror_switches,
-            ..FilterStats::default()
-        };
         let (smoothed, stats) = self.relinearise(
             epochs,
             FilterState::new(initial),
             reference,
             &previous.cuts,
-            stats,
+            previous.stats,
             self.config.relinearise.max(1),
         );
         Smoothed {

@@ -381,32 +381,44 @@ pub fn fit(set: &RecordingSet, cfg: &FitConfig, progress: &dyn Progress) -> Resu
             ));
         }
         progress.stage(&format!("iteration {}/{}: fit", it + 1, cfg.iterations), 1);
-        let fitted = fit_samples(&base, &frames, set, cfg)?;
+        // A later iteration whose reconstruction diverged can give a
+        // non-finite fit: it is rejected like a worse one (below).
+        let fitted = match fit_samples(&base, &frames, set, cfg) {
+            Ok(m) => Some(m),
+            Err(e) if iterations.is_empty() => return Err(e),
+            Err(_) => None,
+        };
         progress.tick();
-        let res = frame_residuals(&fitted, &frames, set.world.air_density);
+        let nan = (f64::NAN, f64::NAN);
+        let res = fitted
+            .as_ref()
+            .map(|m| frame_residuals(m, &frames, set.world.air_density));
         let mut report = IterationReport {
             noise,
             filter: total_stats(&smoothed),
             forces: fstats,
-            residual: summary(&res),
-            residual_dimensional: rms_dimensional(&res),
+            residual: res.as_deref().map_or(nan, summary),
+            residual_dimensional: res.as_deref().map_or(nan, rms_dimensional),
             seconds: start.elapsed().as_secs_f64(),
             rejected: false,
         };
         // Refinement must not make things worse: a model whose filter run
         // fits clearly worse than the best so far is rejected and the
         // refinement stops (the filter went astray with it).
-        if let Some(b) = iterations.iter().rfind(|r| !r.rejected) {
-            if worse(&report, b) {
+        let kept = iterations.iter().rfind(|r| !r.rejected);
+        match fitted {
+            Some(fitted) if !kept.is_some_and(|b| worse(&report, b)) => {
+                noise = next_noise(set, first, report.residual_dimensional, cfg.noise_floor);
+                model = fitted.clone();
+                best = Some((fitted, smoothed, frames));
+                iterations.push(report);
+            }
+            _ => {
                 report.rejected = true;
                 iterations.push(report);
                 break;
             }
         }
-        noise = next_noise(set, first, report.residual_dimensional, cfg.noise_floor);
-        model = fitted.clone();
-        best = Some((fitted, smoothed, frames));
-        iterations.push(report);
     }
     let Some((mut model, reconstruction, samples)) = best else {
         return Err(Error::Data("no iteration produced a model".into()));

@@ -133,3 +133,58 @@ impl Process<'_> {
         q
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::recording::Object;
+    use nalgebra::UnitQuaternion;
+
+    fn process(model: &Coefficients<f64>, bias_time: f64) -> Process<'_> {
+        Process {
+            body: RigidBody::new(0.05, Matrix3::identity() * 1e-3).expect("body"),
+            environment: Environment::standard(),
+            model,
+            accel_noise: 1.0,
+            angular_accel_noise: 1.0,
+            force_walk: 0.2,
+            torque_walk: 0.02,
+            bias_time,
+        }
+    }
+
+    #[test]
+    fn gauss_markov_bias_decays_to_its_stationary_variance() {
+        let object = Object {
+            name: "cube".into(),
+            mass: 0.05,
+            inertia: Matrix3::identity() * 1e-3,
+            reference_length: 0.3,
+            pole: Vector3::z(),
+            markers: Vec::new(),
+        };
+        let model = crate::model::zero_model(&object, 2).expect("model");
+        let (dt, tau) = (0.01, 0.5);
+        let walk = process(&model, f64::INFINITY);
+        let gm = process(&model, tau);
+        let mut s = FilterState::new(State {
+            position: Vector3::zeros(),
+            orientation: UnitQuaternion::identity(),
+            velocity: Vector3::zeros(),
+            angular_velocity: Vector3::zeros(),
+        });
+        s.force = Vector3::new(1.0, 0.0, 0.0);
+        assert_eq!(walk.step(&s, dt).force, s.force);
+        let decayed = gm.step(&s, dt).force.x;
+        assert!((decayed - (-dt / tau).exp()).abs() < 1e-12);
+        // Random walk: walk² dt per step; Gauss-Markov: the same to first
+        // order, and the variance tends to walk² τ/2.
+        assert!((walk.noise(dt)[(12, 12)] - 0.04 * dt).abs() < 1e-15);
+        assert!((gm.noise(dt)[(12, 12)] / (0.04 * dt) - 1.0).abs() < 0.03);
+        let (mut v, d2) = (0.0, (-2.0 * dt / tau).exp());
+        for _ in 0..2000 {
+            v = d2 * v + gm.noise(dt)[(12, 12)];
+        }
+        assert!((v / (0.04 * tau / 2.0) - 1.0).abs() < 1e-6);
+    }
+}
