@@ -163,7 +163,7 @@ fn scales(set: &RecordingSet) -> (f64, f64, f64) {
 }
 
 /// Correlation time of the unexplained wrench once a model is fitted, in
-/// units of the object's time scale `τ` (see [`next_noise`]): 2 keeps the
+/// units of the object's time scale `τ` (see `next_noise`): 2 keeps the
 /// driving walk `RMS/sqrt(τ)` of a random walk, so only the decay is new.
 pub const BIAS_TIME_SCALES: f64 = 2.0;
 

@@ -57,7 +57,7 @@ impl Forces<f64> for Biased<'_> {
 
 impl Process<'_> {
     /// `s_{k+1} = f(s_k)` over `dt` seconds (the bias is held through the
-    /// step, then decays by [`Self::bias_decay`]).
+    /// step, then decays by `exp(-dt/τ_b)`, see [`Self::bias_time`]).
     pub fn step(&self, s: &FilterState, dt: f64) -> FilterState {
         let forces = Biased {
             model: self.model,
@@ -110,7 +110,7 @@ impl Process<'_> {
 
     /// Discrete process noise for a step of `dt` s: piecewise-constant white
     /// acceleration (`σ² G Gᵀ`, `G = [dt²/2, dt]`) and the bias's driving
-    /// noise ([`Self::bias_variance`]).
+    /// noise (`bias_variance`).
     pub fn noise(&self, dt: f64) -> Cov {
         let mut q = Cov::zeros();
         let i3 = Matrix3::<f64>::identity();
