@@ -117,6 +117,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             e * 100.0
         );
     }
+    scale_check(&out.model, &truth, &dirs);
     let ctx = omniad_acquire::fit_lsq::FitContext {
         air_density: set.world.air_density,
         reference_length: set.object.reference_length,
@@ -129,4 +130,32 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     println!("D = {:?}", out.model.damping());
     println!("fit wall time {fit_time:.2} s");
     Ok(())
+}
+
+/// How much of the C_F error is one overall scale: the least-squares
+/// scale of the fitted C_F onto the truth over the well-covered directions
+/// and the error left after it.
+fn scale_check(
+    model: &omniad_core::Coefficients<f64>,
+    truth: &[[nalgebra::Vector3<f64>; 3]],
+    dirs: &[nalgebra::Vector3<f64>],
+) {
+    let near = |e: &nalgebra::Vector3<f64>| {
+        let c = 15f64.to_radians().cos();
+        dirs.iter().filter(|d| d.dot(e) >= c).count() >= 20
+    };
+    let pairs: Vec<_> = truth
+        .iter()
+        .filter(|[e, _, _]| near(&e.normalize()))
+        .filter_map(|[e, cf, _]| model.at_direction(&e.normalize()).map(|c| (c.force, *cf)))
+        .collect();
+    let cc: f64 = pairs.iter().map(|(c, _)| c.norm_squared()).sum();
+    let ct: f64 = pairs.iter().map(|(c, t)| c.dot(t)).sum();
+    let tt: f64 = pairs.iter().map(|(_, t)| t.norm_squared()).sum();
+    let s = ct / cc;
+    let left: f64 = pairs.iter().map(|(c, t)| (c * s - t).norm_squared()).sum();
+    println!(
+        "  C_F best overall scale {s:.4}, error after it {:.2} %",
+        (left / tt).sqrt() * 100.0
+    );
 }

@@ -92,6 +92,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 angular_accel_noise: noise.angular_accel,
                 force_walk: noise.force_walk,
                 torque_walk: noise.torque_walk,
+                bias_time: noise.bias_time,
             },
             object: &set.object,
             camera: set.camera.as_ref(),

@@ -76,6 +76,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             torque_walk: first.torque_walk * ws,
             accel: first.accel * acc,
             angular_accel: first.angular_accel * ang,
+            bias_time: first.bias_time,
         };
         let rec = pipeline::reconstruct(&set, &model, noise, &cfg.filter, &pipeline::Silent)?;
         let mut total = omniad_acquire::truth::StateError::default();

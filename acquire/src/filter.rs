@@ -23,10 +23,11 @@ use crate::process::Process;
 use crate::recording::Object;
 use crate::state::{boxminus, boxplus, Cov, Delta, FilterState};
 use crate::tracks::{Epoch, MarkerSighting, Observation};
-use nalgebra::{Matrix3, Rotation3, SMatrix, UnitQuaternion, Vector3};
+use nalgebra::{SMatrix, Vector3};
 use omniad_core::State;
 
 mod iterated;
+mod mirror;
 
 /// Consecutive fully-gated frames after which gating is suspended once.
 pub const LOST_FRAMES: usize = 3;
@@ -77,7 +78,7 @@ pub struct FilterConfig {
     /// (default [`MIRROR_WINDOW`]).
     pub mirror_window: usize,
     /// Most sweeps linearised about the previous smoothed trajectory after
-    /// the passes (see [`iterated`]; default 3, 0 turns them off).
+    /// the passes (see `filter::iterated`; default 3, 0 turns them off).
     pub relinearise: usize,
 }
 
@@ -211,16 +212,12 @@ impl Filter<'_> {
             .iter()
             .map(|s| FilterState::new(*s))
             .collect();
-        let stats = FilterStats {
-            mirror_switches: previous.stats.mirror_switches,
-            ..FilterStats::default()
-        };
         let (smoothed, stats) = self.relinearise(
             epochs,
             FilterState::new(initial),
             reference,
             &previous.cuts,
-            stats,
+            previous.stats,
             self.config.relinearise.max(1),
         );
         Smoothed {
@@ -500,159 +497,6 @@ impl Filter<'_> {
         (x, cov)
     }
 
-    /// Coplanar markers seen from afar fit two poses almost equally well:
-    /// the plane tilted towards or away from the line of sight (the
-    /// mirror-image ambiguity of planar pose estimation). The two branches
-    /// meet when the plane faces the camera, and the iterated update, a
-    /// local search, follows whichever the prediction is on; a single frame
-    /// cannot tell them apart, the motion over the next frames can. So the
-    /// update is repeated from the prediction mirrored onto the other branch
-    /// (same covariance) and, when that explains this
-    /// frame's markers about as well, both are filtered over the next
-    /// `mirror_window` epochs; the other branch is taken when it predicts
-    /// those epochs' markers better by [`MIRROR_MARGIN`] (see
-    /// [`Self::window_nll`]).
-    fn mirror_test(
-        &self,
-        epoch: &Epoch,
-        later: &[Epoch],
-        prior: &FilterState,
-        p: &Cov,
-        post: &FilterState,
-        cov: &Cov,
-    ) -> Option<(FilterState, Cov)> {
-        let Observation::Markers(list) = &epoch.observation else {
-            return None;
-        };
-        let window = later.get(..self.config.mirror_window).unwrap_or(later);
-        if window.is_empty() {
-            return None;
-        }
-        // The other hypothesis: the prediction was on the other branch.
-        let other = self.mirror(list, prior)?;
-        let (alt, alt_cov) = self.update_markers(list, &other, &other, p);
-        if !finite(&alt) || alt_cov.iter().any(|v| !v.is_finite()) {
-            return None;
-        }
-        let fit = |x: &FilterState| -> f64 {
-            let Some(camera) = self.camera else {
-                return f64::INFINITY;
-            };
-            let w = 1.0 / self.config.pixel_noise.powi(2);
-            list.iter()
-                .filter_map(|m| {
-                    let (_, body) = self.object.markers.get(m.marker)?;
-                    Some(match marker_pixel(camera, &x.body, body) {
-                        Some((pixel, _)) => (m.pixel - pixel).norm_squared() * w,
-                        None => f64::INFINITY,
-                    })
-                })
-                .sum()
-        };
-        if fit(&alt) > fit(post) + MIRROR_MARGIN {
-            return None;
-        }
-        let here = self.window_nll(post, cov, epoch.t, window);
-        let there = self.window_nll(&alt, &alt_cov, epoch.t, window);
-        (there + MIRROR_MARGIN < here).then_some((alt, alt_cov))
-    }
-
-    /// How badly filtering `epochs` from `start` (at time `t`) predicts
-    /// their markers: the sum over markers of the squared Mahalanobis
-    /// distance of each innovation, capped at the marker gate (an outlier
-    /// costs no more than that). This is the prediction-error negative
-    /// log-likelihood (x2) without its `ln det S` terms, which nearly cancel
-    /// between two hypotheses started with the same covariance.
-    fn window_nll(&self, start: &FilterState, cov: &Cov, t: f64, epochs: &[Epoch]) -> f64 {
-        let Some(camera) = self.camera else {
-            return f64::INFINITY;
-        };
-        let r = self.config.pixel_noise.powi(2);
-        let (mut x, mut p, mut prev) = (*start, *cov, t);
-        let mut stats = FilterStats::default();
-        let mut lost = 0;
-        let mut nll = 0.0;
-        for e in epochs {
-            let (xn, f) = self.process.step_with_jacobian(&x, e.t - prev);
-            let pn = f * p * f.transpose() + self.process.noise(e.t - prev);
-            prev = e.t;
-            if !finite(&xn) || pn.iter().any(|v| !v.is_finite()) {
-                return f64::INFINITY;
-            }
-            if let Observation::Markers(list) = &e.observation {
-                for m in list {
-                    let Some((_, body)) = self.object.markers.get(m.marker) else {
-                        continue;
-                    };
-                    let Some((pixel, h)) = marker_pixel(camera, &xn.body, body) else {
-                        nll += self.config.marker_gate;
-                        continue;
-                    };
-                    let s = h * pn * h.transpose() + nalgebra::Matrix2::identity() * r;
-                    let nu = m.pixel - pixel;
-                    let d2 = s
-                        .try_inverse()
-                        .map(|si| (nu.transpose() * si * nu)[0])
-                        .unwrap_or(f64::INFINITY);
-                    nll += d2.min(self.config.marker_gate);
-                }
-            }
-            (x, p) = self.update(&e.observation, &xn, &xn, &pn, &mut lost, &mut stats);
-        }
-        nll
-    }
-
-    /// The mirror-image pose of `x` for the seen markers, when they are
-    /// (nearly) coplanar: the markers' offsets from their centroid reflected
-    /// through the plane normal to the line of sight (`R' = S R F`, `S` the
-    /// world reflection along the line of sight, `F` the body reflection
-    /// across the marker plane), keeping the centroid and its velocity; the
-    /// angular velocity and unexplained torque are mirrored accordingly
-    /// (`Ω' = -F Ω`), the unexplained force keeps its world direction.
-    fn mirror(&self, list: &[MarkerSighting], x: &FilterState) -> Option<FilterState> {
-        let camera = self.camera?;
-        let pts: Vec<Vector3<f64>> = list
-            .iter()
-            .filter_map(|m| self.object.markers.get(m.marker).map(|(_, b)| *b))
-            .collect();
-        if pts.len() < 3 {
-            return None;
-        }
-        let c = pts.iter().sum::<Vector3<f64>>() / pts.len() as f64;
-        let scatter = pts
-            .iter()
-            .fold(Matrix3::zeros(), |a, q| a + (q - c) * (q - c).transpose());
-        let eig = scatter.symmetric_eigen();
-        let (imin, smallest) = eig.eigenvalues.argmin();
-        let largest = eig.eigenvalues.max();
-        if largest <= 0.0 || smallest > MIRROR_PLANARITY * largest {
-            return None;
-        }
-        let m: Vector3<f64> = eig.eigenvectors.column(imin).into_owned();
-        let r = x.body.orientation.to_rotation_matrix().into_inner();
-        let centroid = x.body.position + r * c;
-        let eye = -camera.rotation.transpose() * camera.translation;
-        let l = (centroid - eye).try_normalize(1e-9)?;
-        let s = Matrix3::identity() - 2.0 * l * l.transpose();
-        let f = Matrix3::identity() - 2.0 * m * m.transpose();
-        let r2 = s * r * f;
-        let q2 = UnitQuaternion::from_rotation_matrix(&Rotation3::from_matrix_unchecked(r2));
-        let w = x.body.angular_velocity;
-        let w2 = -(f * w);
-        // The centroid keeps its velocity; the centre of mass follows it.
-        let centroid_velocity = x.body.velocity + r * w.cross(&c);
-        let mut out = *x;
-        out.body.orientation = q2;
-        out.body.position = centroid - r2 * c;
-        out.body.velocity = centroid_velocity - r2 * w2.cross(&c);
-        out.body.angular_velocity = w2;
-        // The unexplained force keeps its world direction (the centre of
-        // mass accelerates alike); the torque mirrors like the spin.
-        out.force = r2.transpose() * (r * x.force);
-        out.torque = -(f * x.torque);
-        Some(out)
-    }
-
     fn update_pose(
         &self,
         y: &Vector3<f64>,
@@ -719,83 +563,4 @@ fn smooth(steps: &[Step]) -> Vec<FilterState> {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-    use nalgebra::Vector2;
-    use omniad_core::{Environment, RigidBody};
-
-    fn object() -> Object {
-        let markers = [(0.15, 0.18), (0.15, -0.18), (-0.15, -0.18), (-0.15, 0.18)]
-            .iter()
-            .enumerate()
-            .map(|(i, (x, y))| (format!("m{i}"), Vector3::new(*x, *y, 0.1)))
-            .collect();
-        Object {
-            name: "box face".into(),
-            mass: 0.04,
-            inertia: Matrix3::from_diagonal(&Vector3::new(7e-4, 4e-4, 6e-4)),
-            reference_length: 0.54,
-            pole: Vector3::z(),
-            markers,
-        }
-    }
-
-    #[test]
-    fn mirror_pose_fits_the_markers_and_keeps_the_centroid_motion() {
-        let camera = crate::synth_write::standard_camera(0.7);
-        let object = object();
-        let model = crate::model::zero_model(&object, 2).expect("model");
-        let filter = Filter {
-            process: Process {
-                body: RigidBody::new(object.mass, object.inertia).expect("body"),
-                environment: Environment::standard(),
-                model: &model,
-                accel_noise: 1.0,
-                angular_accel_noise: 1.0,
-                force_walk: 0.1,
-                torque_walk: 0.01,
-            },
-            object: &object,
-            camera: Some(&camera),
-            config: FilterConfig::default(),
-        };
-        // The face (body +z) tilted 20 degrees away from facing the camera.
-        let face_camera = UnitQuaternion::from_axis_angle(&Vector3::x_axis(), 1.2);
-        let x = FilterState::new(State {
-            position: Vector3::new(0.3, 0.1, 3.0),
-            orientation: face_camera,
-            velocity: Vector3::new(0.5, 0.2, -4.0),
-            angular_velocity: Vector3::new(2.0, -1.0, 0.5),
-        });
-        let list: Vec<MarkerSighting> = (0..4)
-            .map(|marker| MarkerSighting {
-                marker,
-                pixel: Vector2::zeros(),
-            })
-            .collect();
-        let m = filter.mirror(&list, &x).expect("coplanar markers");
-        let angle = x
-            .body
-            .orientation
-            .angle_to(&m.body.orientation)
-            .to_degrees();
-        assert!(angle > 5.0, "the mirror pose is another pose ({angle} deg)");
-        for (_, body) in &object.markers {
-            let a = marker_pixel(&camera, &x.body, body).expect("a").0;
-            let b = marker_pixel(&camera, &m.body, body).expect("b").0;
-            assert!((a - b).norm() < 1.0, "marker pixels {a} vs {b}");
-        }
-        // The centroid and its velocity are kept.
-        let c = Vector3::new(0.0, 0.0, 0.1);
-        let centroid = |s: &FilterState| s.body.position + s.body.orientation * c;
-        let centroid_velocity = |s: &FilterState| {
-            s.body.velocity + s.body.orientation * s.body.angular_velocity.cross(&c)
-        };
-        assert!((centroid(&x) - centroid(&m)).norm() < 1e-12);
-        assert!((centroid_velocity(&x) - centroid_velocity(&m)).norm() < 1e-12);
-        // Mirroring twice gives the pose back.
-        let back = filter.mirror(&list, &m).expect("coplanar");
-        assert!(back.body.orientation.angle_to(&x.body.orientation) < 1e-9);
-        assert!((back.body.angular_velocity - x.body.angular_velocity).norm() < 1e-9);
-    }
-}
+mod tests;

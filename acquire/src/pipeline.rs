@@ -90,6 +90,9 @@ pub struct ProcessNoise {
     pub force_walk: f64,
     /// Random walk of the unexplained torque, N m/√s.
     pub torque_walk: f64,
+    /// Correlation time of the unexplained wrench, s (`f64::INFINITY`: a
+    /// random walk; see [`Process::bias_time`]).
+    pub bias_time: f64,
 }
 
 /// What one refinement iteration did.
@@ -159,8 +162,14 @@ fn scales(set: &RecordingSet) -> (f64, f64, f64) {
     (force, 0.5 * force * l, (l / g).sqrt())
 }
 
+/// Correlation time of the unexplained wrench once a model is fitted, in
+/// units of the object's time scale `τ` (see `next_noise`): 2 keeps the
+/// driving walk `RMS/sqrt(τ)` of a random walk, so only the decay is new.
+pub const BIAS_TIME_SCALES: f64 = 2.0;
+
 /// Process noise with no aerodynamic model: the unexplained wrench may
-/// change by its full scale over `τ`; white noise of 10 % of the scales.
+/// change by its full scale over `τ` (a random walk: the air's wrench has a
+/// non-zero mean the filter must find); white noise of 10 % of the scales.
 pub fn initial_noise(set: &RecordingSet) -> ProcessNoise {
     let (force, torque, tau) = scales(set);
     let i_max = set.object.inertia.symmetric_eigen().eigenvalues.max();
@@ -169,6 +178,7 @@ pub fn initial_noise(set: &RecordingSet) -> ProcessNoise {
         angular_accel: 0.1 * torque / i_max,
         force_walk: force / tau.sqrt(),
         torque_walk: torque / tau.sqrt(),
+        bias_time: f64::INFINITY,
     }
 }
 
@@ -223,6 +233,7 @@ fn filter<'a>(
         angular_accel_noise: noise.angular_accel,
         force_walk: noise.force_walk,
         torque_walk: noise.torque_walk,
+        bias_time: noise.bias_time,
     };
     let (force, torque, _) = scales(set);
     config.initial_bias = [force, torque];
@@ -315,9 +326,14 @@ pub fn fit_samples(
     with_raw(base, &raw)
 }
 
-/// The next iteration's process noise: the bias walks scaled to the fit's
-/// RMS residual wrench (clamped between `floor` and 1 times the no-model
-/// walks); the white noise is kept.
+/// The next iteration's process noise: with a fitted model the unexplained
+/// wrench is the fit's residual, a zero-mean first-order Gauss-Markov
+/// process (not a random walk) with correlation time [`BIAS_TIME_SCALES`]`·τ`
+/// and stationary RMS the fit's RMS residual wrench; its driving walk
+/// (`RMS·sqrt(2/τ_b)` = `RMS/sqrt(τ)`) is clamped between `floor` and 1
+/// times the no-model walks. A random walk lets a slowly drifting depth
+/// error (the poorly observed direction of §5's marker updates) pass as
+/// unexplained force; the decay bounds that drift. The white noise is kept.
 fn next_noise(
     set: &RecordingSet,
     first: ProcessNoise,
@@ -325,9 +341,12 @@ fn next_noise(
     floor: f64,
 ) -> ProcessNoise {
     let (_, _, tau) = scales(set);
+    let bias_time = BIAS_TIME_SCALES * tau;
+    let k = (2.0 / bias_time).sqrt();
     ProcessNoise {
-        force_walk: (rms.0 / tau.sqrt()).clamp(floor * first.force_walk, first.force_walk),
-        torque_walk: (rms.1 / tau.sqrt()).clamp(floor * first.torque_walk, first.torque_walk),
+        force_walk: (rms.0 * k).clamp(floor * first.force_walk, first.force_walk),
+        torque_walk: (rms.1 * k).clamp(floor * first.torque_walk, first.torque_walk),
+        bias_time,
         ..first
     }
 }
@@ -362,32 +381,44 @@ pub fn fit(set: &RecordingSet, cfg: &FitConfig, progress: &dyn Progress) -> Resu
             ));
         }
         progress.stage(&format!("iteration {}/{}: fit", it + 1, cfg.iterations), 1);
-        let fitted = fit_samples(&base, &frames, set, cfg)?;
+        // A later iteration whose reconstruction diverged can give a
+        // non-finite fit: it is rejected like a worse one (below).
+        let fitted = match fit_samples(&base, &frames, set, cfg) {
+            Ok(m) => Some(m),
+            Err(e) if iterations.is_empty() => return Err(e),
+            Err(_) => None,
+        };
         progress.tick();
-        let res = frame_residuals(&fitted, &frames, set.world.air_density);
+        let nan = (f64::NAN, f64::NAN);
+        let res = fitted
+            .as_ref()
+            .map(|m| frame_residuals(m, &frames, set.world.air_density));
         let mut report = IterationReport {
             noise,
             filter: total_stats(&smoothed),
             forces: fstats,
-            residual: summary(&res),
-            residual_dimensional: rms_dimensional(&res),
+            residual: res.as_deref().map_or(nan, summary),
+            residual_dimensional: res.as_deref().map_or(nan, rms_dimensional),
             seconds: start.elapsed().as_secs_f64(),
             rejected: false,
         };
         // Refinement must not make things worse: a model whose filter run
         // fits clearly worse than the best so far is rejected and the
         // refinement stops (the filter went astray with it).
-        if let Some(b) = iterations.iter().rfind(|r| !r.rejected) {
-            if worse(&report, b) {
+        let kept = iterations.iter().rfind(|r| !r.rejected);
+        match fitted {
+            Some(fitted) if !kept.is_some_and(|b| worse(&report, b)) => {
+                noise = next_noise(set, first, report.residual_dimensional, cfg.noise_floor);
+                model = fitted.clone();
+                best = Some((fitted, smoothed, frames));
+                iterations.push(report);
+            }
+            _ => {
                 report.rejected = true;
                 iterations.push(report);
                 break;
             }
         }
-        noise = next_noise(set, first, report.residual_dimensional, cfg.noise_floor);
-        model = fitted.clone();
-        best = Some((fitted, smoothed, frames));
-        iterations.push(report);
     }
     let Some((mut model, reconstruction, samples)) = best else {
         return Err(Error::Data("no iteration produced a model".into()));

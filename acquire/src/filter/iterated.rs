@@ -88,7 +88,10 @@ impl Filter<'_> {
     }
 
     /// Sweeps linearised about the previous smoothed trajectory until it
-    /// stops moving ([`CONVERGED_POSITION`]) or `sweeps` are done; returns
+    /// stops moving ([`CONVERGED_POSITION`]) or `sweeps` are done, keeping a
+    /// sweep only when it does not fit the markers worse ([`diverged`]: a
+    /// Gauss-Newton step is accepted only if it does not increase the
+    /// misfit, as in Levenberg-Marquardt); returns
     /// the last smoothed trajectory and its sweep's counts (`stats` on
     /// entry: the first sweep's, whose mirror switches are kept).
     pub(super) fn relinearise(
@@ -107,7 +110,10 @@ impl Filter<'_> {
             };
             let steps = self.forward_about(epochs, initial, &smoothed, switched, &mut s);
             let next = smooth(&steps);
-            if next.len() != smoothed.len() || next.iter().any(|x| !finite(x)) {
+            if next.len() != smoothed.len()
+                || next.iter().any(|x| !finite(x))
+                || diverged(&s, &stats)
+            {
                 break;
             }
             let moved = next
@@ -123,4 +129,19 @@ impl Filter<'_> {
         }
         (smoothed, stats)
     }
+}
+
+/// Rows a relinearised sweep may lose to gating, unprojectable markers or
+/// restarts beyond the previous sweep's before it counts as diverged, as a
+/// fraction of the rows used.
+pub const DIVERGED_ROWS: f64 = 0.005;
+
+/// The sweep that gave `new` fits the markers clearly worse than the one
+/// that gave `old`: it gated, failed to project or restarted on more than
+/// [`DIVERGED_ROWS`] more of the rows (a relinearisation about a poor
+/// reference can run away; that sweep is then discarded).
+fn diverged(new: &FilterStats, old: &FilterStats) -> bool {
+    let bad = |s: &FilterStats| (s.gated + s.unprojectable + s.restarts) as f64;
+    let rows = (new.used + new.gated) as f64;
+    bad(new) > bad(old) + DIVERGED_ROWS * rows
 }

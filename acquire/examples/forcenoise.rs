@@ -1,0 +1,130 @@
+//! Is the fitted C_F error force noise or force bias? Runs the pipeline,
+//! compares its last frames' forces (eqs. 9-10 from the reconstruction)
+//! with the same frames' forces from the TRUE states (per-frame RMS
+//! difference and its mean in the body frame), then fits the true forces
+//! plus white noise of that RMS and reports the C_F error of both fits:
+//! `cargo run --release -p omniad-acquire --example forcenoise -- SET`.
+
+use nalgebra::{Quaternion, UnitQuaternion, Vector3};
+use omniad_acquire::filter::{FilterStats, Smoothed};
+use omniad_acquire::forces::ForceStats;
+use omniad_acquire::model::zero_model;
+use omniad_acquire::pipeline::{self, FitConfig, Silent};
+use omniad_acquire::recording::RecordingSet;
+use omniad_acquire::rng::Rng;
+use omniad_acquire::truth::{force_error, read_coefficients, read_states};
+use omniad_core::State;
+use std::collections::HashMap;
+use std::path::Path;
+
+fn main() -> Result<(), Box<dyn std::error::Error>> {
+    let args: Vec<String> = std::env::args().collect();
+    let dir = Path::new(args.get(1).ok_or("usage: forcenoise SET")?);
+    let set = RecordingSet::load(dir)?;
+    let cfg = FitConfig::default();
+    let out = pipeline::fit(&set, &cfg, &Silent)?;
+    let mut smoothed = Vec::new();
+    for take in &set.takes {
+        let truth = read_states(&dir.join("truth").join(format!("{}.csv", take.name)))?;
+        let states = truth
+            .iter()
+            .map(|r| State {
+                position: Vector3::new(r[1], r[2], r[3]),
+                orientation: UnitQuaternion::from_quaternion(Quaternion::new(
+                    r[4], r[5], r[6], r[7],
+                )),
+                velocity: Vector3::new(r[8], r[9], r[10]),
+                angular_velocity: Vector3::new(r[11], r[12], r[13]),
+            })
+            .collect();
+        smoothed.push(Smoothed {
+            times: truth.iter().map(|r| r[0]).collect(),
+            states,
+            cuts: Vec::new(),
+            stats: FilterStats::default(),
+        });
+    }
+    let mut stats = ForceStats::default();
+    let true_frames = pipeline::samples(&set, &smoothed, &mut stats);
+    let by_key: HashMap<(usize, usize), usize> = true_frames
+        .iter()
+        .enumerate()
+        .map(|(i, s)| ((s.take, s.index), i))
+        .collect();
+    let (mut sum, mut sq, mut n) = (Vector3::zeros(), 0.0, 0usize);
+    let mut diffs: Vec<(usize, Vector3<f64>, Vector3<f64>)> = Vec::new();
+    for s in out.samples.iter().filter(|s| s.use_force) {
+        let Some(t) = by_key
+            .get(&(s.take, s.index))
+            .and_then(|&i| true_frames.get(i))
+        else {
+            continue;
+        };
+        let d = s.force - t.force;
+        sum += d;
+        sq += d.norm_squared();
+        n += 1;
+        diffs.push((s.take, d, t.velocity));
+    }
+    low_pass_report(&diffs);
+    let weight = set.object.mass * set.world.gravity.norm();
+    let rms = (sq / n.max(1) as f64).sqrt();
+    println!(
+        "{n} frames: force difference RMS {:.3} N ({:.1} % of M g), mean {:?} N",
+        rms,
+        100.0 * rms / weight,
+        (sum / n.max(1) as f64).as_slice()
+    );
+    let truth = read_coefficients(&dir.join("truth/coefficients.csv"))?;
+    let dirs: Vec<_> = out
+        .samples
+        .iter()
+        .filter(|s| s.use_force && s.velocity.norm() > 0.0)
+        .map(|s| s.velocity.normalize())
+        .collect();
+    let (err, k) = force_error(&out.model, &truth, &dirs, 20, 15f64.to_radians());
+    println!("pipeline fit: C_F {:.2} % over {k} directions", err * 100.0);
+    let mut rng = Rng::new(1);
+    let sigma = rms / 3f64.sqrt();
+    let noisy: Vec<_> = true_frames
+        .iter()
+        .map(|s| {
+            let mut s = *s;
+            s.force += Vector3::new(rng.normal(), rng.normal(), rng.normal()) * sigma;
+            s
+        })
+        .collect();
+    let base = zero_model(&set.object, cfg.degree)?;
+    for (label, frames) in [("true forces", &true_frames), ("true + noise", &noisy)] {
+        let model = pipeline::fit_samples(&base, frames, &set, &cfg)?;
+        let (err, k) = force_error(&model, &truth, &dirs, 20, 15f64.to_radians());
+        println!("{label}: C_F {:.2} % over {k} directions", err * 100.0);
+    }
+    Ok(())
+}
+
+/// RMS of the force difference along the true air velocity and across it,
+/// and of its 15-frame moving average (the time-correlated part).
+fn low_pass_report(diffs: &[(usize, Vector3<f64>, Vector3<f64>)]) {
+    let (mut along, mut across, mut low, mut n, mut m) = (0.0, 0.0, 0.0, 0usize, 0usize);
+    for (i, (take, d, v)) in diffs.iter().enumerate() {
+        let u = v.normalize();
+        along += d.dot(&u).powi(2);
+        across += (d - u * d.dot(&u)).norm_squared();
+        n += 1;
+        let w = diffs
+            .get(i.saturating_sub(7)..(i + 8).min(diffs.len()))
+            .unwrap_or(&[]);
+        if w.len() == 15 && w.iter().all(|x| x.0 == *take) {
+            let mean: Vector3<f64> = w.iter().map(|x| x.1).sum::<Vector3<f64>>() / 15.0;
+            low += mean.norm_squared();
+            m += 1;
+        }
+    }
+    println!(
+        "difference RMS along V {:.4} N, across V {:.4} N, 15-frame mean {:.4} N",
+        (along / n.max(1) as f64).sqrt(),
+        (across / n.max(1) as f64).sqrt(),
+        (low / m.max(1) as f64).sqrt()
+    );
+}
