@@ -41,6 +41,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             times: truth.iter().map(|r| r[0]).collect(),
             states,
             cuts: Vec::new(),
+            velocity_difference_cov: Vec::new(),
             stats: FilterStats::default(),
         });
     }
@@ -53,6 +54,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .collect();
     let (mut sum, mut sq, mut n) = (Vector3::zeros(), 0.0, 0usize);
     let mut diffs: Vec<(usize, Vector3<f64>, Vector3<f64>)> = Vec::new();
+    let mut covs: Vec<(Vector3<f64>, nalgebra::Matrix3<f64>)> = Vec::new();
     for s in out.samples.iter().filter(|s| s.use_force) {
         let Some(t) = by_key
             .get(&(s.take, s.index))
@@ -65,8 +67,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         sq += d.norm_squared();
         n += 1;
         diffs.push((s.take, d, t.velocity));
+        covs.push((d, s.force_cov));
     }
     low_pass_report(&diffs);
+    calibration_report(&covs);
     let weight = set.object.mass * set.world.gravity.norm();
     let rms = (sq / n.max(1) as f64).sqrt();
     println!(
@@ -127,4 +131,40 @@ fn low_pass_report(diffs: &[(usize, Vector3<f64>, Vector3<f64>)]) {
         (across / n.max(1) as f64).sqrt(),
         (low / m.max(1) as f64).sqrt()
     );
+}
+
+/// Does the smoother's force covariance describe the force differences?
+/// RMS difference along each frame's most and least uncertain direction
+/// against the predicted sigmas, and RMS |difference| by quartile of
+/// predicted trace.
+fn calibration_report(covs: &[(Vector3<f64>, nalgebra::Matrix3<f64>)]) {
+    let (mut big, mut big_pred, mut small, mut small_pred) = (0.0, 0.0, 0.0, 0.0);
+    let mut by_trace: Vec<(f64, f64)> = Vec::new();
+    for (d, c) in covs {
+        let e = c.symmetric_eigen();
+        let (imax, imin) = (e.eigenvalues.imax(), e.eigenvalues.imin());
+        big += d.dot(&e.eigenvectors.column(imax)).powi(2);
+        big_pred += e.eigenvalues[imax];
+        small += d.dot(&e.eigenvectors.column(imin)).powi(2);
+        small_pred += e.eigenvalues[imin].max(0.0);
+        by_trace.push((c.trace(), d.norm_squared()));
+    }
+    let n = covs.len().max(1) as f64;
+    println!(
+        "most uncertain direction: RMS {:.4} N predicted {:.4} N; least: RMS {:.4} N predicted {:.4} N",
+        (big / n).sqrt(),
+        (big_pred / n).sqrt(),
+        (small / n).sqrt(),
+        (small_pred / n).sqrt()
+    );
+    by_trace.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let q = by_trace.len() / 4;
+    for (i, chunk) in by_trace.chunks(q.max(1)).take(4).enumerate() {
+        let m = chunk.len().max(1) as f64;
+        println!(
+            "trace quartile {i}: predicted RMS {:.4} N, actual RMS {:.4} N",
+            (chunk.iter().map(|x| x.0).sum::<f64>() / m).sqrt(),
+            (chunk.iter().map(|x| x.1).sum::<f64>() / m).sqrt()
+        );
+    }
 }

@@ -35,6 +35,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             times: truth.iter().map(|r| r[0]).collect(),
             states,
             cuts: Vec::new(),
+            velocity_difference_cov: Vec::new(),
             stats: FilterStats::default(),
         });
     }

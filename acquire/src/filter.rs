@@ -23,11 +23,14 @@ use crate::process::Process;
 use crate::recording::Object;
 use crate::state::{boxminus, boxplus, Cov, Delta, FilterState};
 use crate::tracks::{Epoch, MarkerSighting, Observation};
-use nalgebra::{SMatrix, Vector3};
+use nalgebra::{Matrix3, SMatrix, Vector3};
 use omniad_core::State;
 
 mod iterated;
 mod mirror;
+mod smoother;
+
+use smoother::smooth;
 
 /// Consecutive fully-gated frames after which gating is suspended once.
 pub const LOST_FRAMES: usize = 3;
@@ -131,6 +134,11 @@ pub struct Smoothed {
     /// Per epoch: the filter moved to the other mirror-image branch there,
     /// so the smoother does not link it to the epoch before (empty: none).
     pub cuts: Vec<bool>,
+    /// Per epoch k: the smoother's posterior covariance (world frame,
+    /// (m/s)²) of the central velocity difference `v_{k+1} - v_{k-1}` that
+    /// eqs. (9)-(10) difference (see `smoother::velocity_difference_cov`); zero at
+    /// the first and last epoch. Empty: unknown (e.g. true states).
+    pub velocity_difference_cov: Vec<Matrix3<f64>>,
     /// Counts.
     pub stats: FilterStats,
 }
@@ -168,20 +176,20 @@ impl Filter<'_> {
     /// the counts are those of the last pass.
     pub fn run(&self, epochs: &[Epoch], initial: State<f64>) -> Smoothed {
         let mut start = FilterState::new(initial);
-        let mut result = (Vec::new(), FilterStats::default(), Vec::new());
+        let mut result = (Vec::new(), Vec::new(), FilterStats::default(), Vec::new());
         for _ in 0..self.config.passes.max(1) {
             let mut stats = FilterStats::default();
             let steps = self.forward(epochs, start, &mut stats);
-            let smoothed = smooth(&steps);
+            let (smoothed, dv) = smooth(&steps);
             start = smoothed.first().copied().unwrap_or(start);
             let switched: Vec<bool> = steps.iter().map(|s| s.switched).collect();
-            result = (smoothed, stats, switched);
+            result = (smoothed, dv, stats, switched);
         }
-        let (smoothed, stats, switched) = result;
-        let (smoothed, stats) = self.relinearise(
+        let (smoothed, dv, stats, switched) = result;
+        let ((smoothed, dv), stats) = self.relinearise(
             epochs,
             FilterState::new(initial),
-            smoothed,
+            (smoothed, dv),
             &switched,
             stats,
             self.config.relinearise,
@@ -190,6 +198,7 @@ impl Filter<'_> {
             times: epochs.iter().map(|e| e.t).collect(),
             states: smoothed.into_iter().map(|s| s.body).collect(),
             cuts: switched,
+            velocity_difference_cov: dv,
             stats,
         }
     }
@@ -212,10 +221,10 @@ impl Filter<'_> {
             .iter()
             .map(|s| FilterState::new(*s))
             .collect();
-        let (smoothed, stats) = self.relinearise(
+        let ((smoothed, dv), stats) = self.relinearise(
             epochs,
             FilterState::new(initial),
-            reference,
+            (reference, previous.velocity_difference_cov.clone()),
             &previous.cuts,
             previous.stats,
             self.config.relinearise.max(1),
@@ -224,6 +233,7 @@ impl Filter<'_> {
             times: epochs.iter().map(|e| e.t).collect(),
             states: smoothed.into_iter().map(|s| s.body).collect(),
             cuts: previous.cuts.clone(),
+            velocity_difference_cov: dv,
             stats,
         }
     }
@@ -530,36 +540,6 @@ impl Filter<'_> {
         let cov = (Cov::identity() - k * h) * p;
         (boxplus(x, &delta), 0.5 * (cov + cov.transpose()))
     }
-}
-
-/// Rauch-Tung-Striebel backward pass in error-state form.
-fn smooth(steps: &[Step]) -> Vec<FilterState> {
-    let n = steps.len();
-    let mut out: Vec<FilterState> = steps.iter().map(|s| s.filtered).collect();
-    let Some(last) = steps.last() else { return out };
-    let mut next_cov = last.filtered_cov;
-    for k in (0..n.saturating_sub(1)).rev() {
-        let (Some(cur), Some(nxt), Some(&xs_next)) =
-            (steps.get(k), steps.get(k + 1), out.get(k + 1))
-        else {
-            break;
-        };
-        if nxt.switched {
-            next_cov = cur.filtered_cov;
-            continue;
-        }
-        let Some(pp_inv) = nxt.predicted_cov.cholesky().map(|c| c.inverse()) else {
-            continue;
-        };
-        let gain = cur.filtered_cov * nxt.jacobian.transpose() * pp_inv;
-        let delta = gain * boxminus(&xs_next, &nxt.predicted);
-        let cov = cur.filtered_cov + gain * (next_cov - nxt.predicted_cov) * gain.transpose();
-        next_cov = 0.5 * (cov + cov.transpose());
-        if let Some(slot) = out.get_mut(k) {
-            *slot = boxplus(&cur.filtered, &delta);
-        }
-    }
-    out
 }
 
 #[cfg(test)]

@@ -19,15 +19,14 @@ pub const SMOOTHING_GRID: [f64; 7] = [1e-4, 3e-4, 1e-3, 3e-3, 1e-2, 3e-2, 1e-1];
 /// Fewest takes for cross-validation (else the configured weight is used).
 pub const MIN_TAKES: usize = 3;
 
-/// One take's normal equations for the three force components sharing the
-/// design matrix `A`: `AᵀA`, `Aᵀb_i` and `Σ b_iᵀb_i`.
+/// One take's weighted normal equations: `AᵀWA`, `AᵀWb` and `bᵀWb`.
 #[derive(Clone, Debug)]
 pub struct Normals {
-    /// `AᵀA`.
+    /// `AᵀWA`.
     pub ata: DMatrix<f64>,
-    /// `Aᵀb_i`, i = 1..3.
-    pub atb: [DVector<f64>; 3],
-    /// `Σ_i b_iᵀ b_i`.
+    /// `AᵀWb`.
+    pub atb: DVector<f64>,
+    /// `bᵀWb`.
     pub btb: f64,
 }
 
@@ -36,7 +35,7 @@ impl Normals {
     pub fn zeros(n: usize) -> Self {
         Self {
             ata: DMatrix::zeros(n, n),
-            atb: std::array::from_fn(|_| DVector::zeros(n)),
+            atb: DVector::zeros(n),
             btb: 0.0,
         }
     }
@@ -44,19 +43,21 @@ impl Normals {
     /// Adds `other`.
     pub fn add(&mut self, other: &Self) {
         self.ata += &other.ata;
-        for (a, b) in self.atb.iter_mut().zip(&other.atb) {
-            *a += b;
-        }
+        self.atb += &other.atb;
         self.btb += other.btb;
     }
 }
 
 /// The weight of [`SMOOTHING_GRID`] whose fits without each take predict
 /// that take's forces best (summed squared error), or `fallback` with fewer
-/// than [`MIN_TAKES`] takes. `regularise(ata, λ)` adds the smoothing term
-/// (scaled from the whole data, so that every fold is smoothed alike).
+/// than [`MIN_TAKES`] takes. `takes` and `total` are the fit's (weighted)
+/// normal equations; each held-out take is scored with its entry of
+/// `held_out` (same unknowns, possibly other weights). `regularise(ata, λ)`
+/// adds the smoothing term (scaled from the whole data, so that every fold
+/// is smoothed alike).
 pub fn choose(
     takes: &[Normals],
+    held_out: &[Normals],
     total: &Normals,
     fallback: f64,
     regularise: impl Fn(&mut DMatrix<f64>, f64),
@@ -67,19 +68,17 @@ pub fn choose(
     let mut best = (f64::INFINITY, fallback);
     for &lambda in &SMOOTHING_GRID {
         let mut score = 0.0;
-        for t in takes {
+        for (t, h) in takes.iter().zip(held_out) {
             let mut ata = &total.ata - &t.ata;
             regularise(&mut ata, lambda);
             let Some(chol) = ata.cholesky() else {
                 score = f64::INFINITY;
                 break;
             };
-            // Held-out error: Σ_i |b_i - A c_i|² = b_iᵀb_i - 2 c_iᵀAᵀb_i + c_iᵀAᵀA c_i.
-            score += t.btb;
-            for (rest, held) in total.atb.iter().zip(&t.atb) {
-                let c = chol.solve(&(rest - held));
-                score += c.dot(&(&t.ata * &c)) - 2.0 * c.dot(held);
-            }
+            // Held-out error: (b - Ac)ᵀW(b - Ac) = bᵀWb - 2 cᵀAᵀWb + cᵀAᵀWA c.
+            score += h.btb;
+            let c = chol.solve(&(&total.atb - &t.atb));
+            score += c.dot(&(&h.ata * &c)) - 2.0 * c.dot(&h.atb);
         }
         if score < best.0 {
             best = (score, lambda);

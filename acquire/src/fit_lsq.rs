@@ -2,8 +2,10 @@
 //! alpha, beta and D directly on the reconstructed frames, in force space.
 //!
 //! Per frame k with dynamic pressure `q_k = ½ρ|V_k|²` and basis `E^i_k`:
-//! `F_k·E^i_k = q_k L² Σ_lm α^i_lm Y_lm(E_k)` (eqs. 5, 7) — three independent
-//! problems sharing one normal matrix — and
+//! `F_k·E^i_k = q_k L² Σ_lm α^i_lm Y_lm(E_k)` (eqs. 5, 7) — one problem in
+//! `(α¹, α², α³)`, each frame's three residuals weighted by the inverse of
+//! its reconstruction uncertainty (generalised least squares, see
+//! `force_weights`) — and
 //! `T_k = Σ_i E^i_k q_k L³ Σ_lm β^i_lm Y_lm(E_k) - ½ρL⁵ |Ω_k| D Ω_k` (eqs. 6, 8),
 //! one joint problem in (β, D). Smoothness: Tikhonov on the Dirichlet energy
 //! `Σ l(l+1) c_lm²`, scaled by the data. D is projected onto positive definite
@@ -14,7 +16,7 @@ use crate::damping::{matrix, omega_map, positive_definite};
 use crate::fit_cv::Normals;
 use crate::forces::Sample;
 use crate::recording::TakeKind;
-use nalgebra::{DMatrix, DVector, Vector3};
+use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
 use omniad_core::basis::vector_basis;
 use omniad_core::sh::{coeff_count, evaluate, MAX_COEFFS};
 
@@ -144,35 +146,82 @@ fn force_frames(samples: &[Sample]) -> Vec<&Sample> {
         .collect()
 }
 
-/// The force fit's normal equations per take and in total: row `a` =
-/// `q L² Y(E)` per frame, right-hand sides the force along each `E^i`.
+/// Per-frame weights of the force residual (body frame), generalised least
+/// squares: `σ² (Σ_F + σ² I)⁻¹`, `Σ_F` the smoother's posterior covariance
+/// of the reconstructed force ([`Sample::force_cov`]; large along the
+/// poorly observed line of sight, §5) and `σ² I` the error it does not
+/// describe (SH truncation, unsteady air, the time correlation of the
+/// reconstruction error), taken as the mean reconstruction variance
+/// `mean tr Σ_F / 3`: along an eigenvector of `Σ_F` of variance `λ` the
+/// weight is `σ²/(σ² + λ)`, in (0, 1] and one half at the average variance
+/// (no weight can blow up). Identity when no frame has a covariance (e.g.
+/// true states).
+fn force_weights(frames: &[&Sample]) -> Vec<Matrix3<f64>> {
+    let sigma2 =
+        frames.iter().map(|s| s.force_cov.trace()).sum::<f64>() / (3 * frames.len().max(1)) as f64;
+    let identity = Matrix3::identity();
+    if sigma2 <= 0.0 || !sigma2.is_finite() {
+        return vec![identity; frames.len()];
+    }
+    frames
+        .iter()
+        .map(|s| {
+            (s.force_cov + identity * sigma2)
+                .try_inverse()
+                .map_or(identity, |w| w * sigma2)
+        })
+        .collect()
+}
+
+/// The force fit's normal equations per take and in total. Unknowns
+/// `(α¹, α², α³)`; frame k contributes the residuals `r_i = q L² Y(E)·α^i -
+/// F·E^i` (eqs. 5, 7) weighted by `Bᵀ W B` ([`force_weights`] in the basis
+/// `B = [E¹ E²  E³]`), which couples the three components.
 fn force_normals(samples: &[Sample], ctx: &FitContext, degree: usize) -> (Vec<Normals>, Normals) {
+    let frames = force_frames(samples);
+    let weights = force_weights(&frames);
+    normals_with(&frames, &weights, ctx, degree)
+}
+
+fn normals_with(
+    frames: &[&Sample],
+    weights: &[Matrix3<f64>],
+    ctx: &FitContext,
+    degree: usize,
+) -> (Vec<Normals>, Normals) {
     let n = coeff_count(degree);
     let l2 = ctx.reference_length.powi(2);
     let mut takes: Vec<(usize, Normals)> = Vec::new();
-    for s in force_frames(samples) {
+    for (s, w) in frames.iter().zip(weights) {
         let speed = s.velocity.norm();
         let (y, basis) = sh_and_basis(degree, &(s.velocity / speed), &ctx.pole);
         let a = DVector::from_vec(y) * (0.5 * ctx.air_density * speed * speed * l2);
+        let b = Matrix3::from_columns(&basis);
+        let wb = b.transpose() * w * b;
+        let target = b.transpose() * s.force;
         let at = match takes.iter().position(|(t, _)| *t == s.take) {
             Some(i) => i,
             None => {
-                takes.push((s.take, Normals::zeros(n)));
+                takes.push((s.take, Normals::zeros(3 * n)));
                 takes.len() - 1
             }
         };
         let Some((_, nt)) = takes.get_mut(at) else {
             continue;
         };
-        nt.ata.ger(1.0, &a, &a, 1.0);
-        for (rhs, b) in nt.atb.iter_mut().zip(&basis) {
-            let target = s.force.dot(b);
-            rhs.axpy(target, &a, 1.0);
-            nt.btb += target * target;
+        let wt = wb * target;
+        for i in 0..3 {
+            for j in 0..3 {
+                nt.ata
+                    .view_mut((i * n, j * n), (n, n))
+                    .ger(wb[(i, j)], &a, &a, 1.0);
+            }
+            nt.atb.rows_mut(i * n, n).axpy(wt[i], &a, 1.0);
         }
+        nt.btb += target.dot(&wt);
     }
     let takes: Vec<Normals> = takes.into_iter().map(|(_, t)| t).collect();
-    let mut total = Normals::zeros(n);
+    let mut total = Normals::zeros(3 * n);
     for t in &takes {
         total.add(t);
     }
@@ -186,9 +235,14 @@ pub fn force_smoothing(samples: &[Sample], ctx: &FitContext, cfg: &LsqConfig) ->
         return cfg.smoothing;
     }
     let (takes, total) = force_normals(samples, ctx, cfg.degree);
-    let scale = data_scale(&total.ata, coeff_count(cfg.degree));
-    crate::fit_cv::choose(&takes, &total, cfg.smoothing, |m, lambda| {
-        regularise_scaled(m, 1, cfg.degree, lambda, scale);
+    // Held-out takes are scored unweighted: C_F is judged in every
+    // direction alike, also those the camera sees poorly.
+    let frames = force_frames(samples);
+    let plain = vec![Matrix3::identity(); frames.len()];
+    let held_out = normals_with(&frames, &plain, ctx, cfg.degree).0;
+    let scale = data_scale(&total.ata, 3 * coeff_count(cfg.degree));
+    crate::fit_cv::choose(&takes, &held_out, &total, cfg.smoothing, |m, lambda| {
+        regularise_scaled(m, 3, cfg.degree, lambda, scale);
     })
 }
 
@@ -196,23 +250,27 @@ pub fn force_smoothing(samples: &[Sample], ctx: &FitContext, cfg: &LsqConfig) ->
 pub fn fit_force(samples: &[Sample], ctx: &FitContext, cfg: &LsqConfig) -> [Vec<f64>; 3] {
     let smoothing = force_smoothing(samples, ctx, cfg);
     let (_, Normals { mut ata, atb, .. }) = force_normals(samples, ctx, cfg.degree);
-    regularise(&mut ata, 1, cfg.degree, smoothing);
-    let [b1, b2, b3] = atb;
-    let alpha1 = enforce_no_thrust(ata.clone(), b1, cfg);
-    [
-        alpha1,
-        solve(&ata, &b2).as_slice().to_vec(),
-        solve(&ata, &b3).as_slice().to_vec(),
-    ]
+    regularise(&mut ata, 3, cfg.degree, smoothing);
+    let x = enforce_no_thrust(ata, atb, cfg);
+    let n = coeff_count(cfg.degree);
+    std::array::from_fn(|i| x.get(i * n..(i + 1) * n).unwrap_or(&[]).to_vec())
 }
 
-/// Solves for alpha^1 and adds penalty rows `Σ α¹_k Y_k(E) = -margin` at
-/// directions of a dense grid where `C_F(E)·E > -margin`, until none is left.
+/// Solves for alpha (the first `coeff_count` unknowns are alpha^1) and adds
+/// penalty rows `Σ α¹_k Y_k(E) = -margin` at directions of a dense grid
+/// where `C_F(E)·E > -margin`, until none is left.
 fn enforce_no_thrust(mut ata: DMatrix<f64>, mut atb: DVector<f64>, cfg: &LsqConfig) -> Vec<f64> {
     let grid = crate::fit_paper::sphere_grid(64, 32);
+    let dim = ata.nrows();
     let ys: Vec<DVector<f64>> = grid
         .iter()
-        .map(|(e, _)| DVector::from_vec(sh_and_basis(cfg.degree, e, e).0))
+        .map(|(e, _)| {
+            let y = sh_and_basis(cfg.degree, e, e).0;
+            let mut v = DVector::zeros(dim);
+            v.rows_mut(0, y.len().min(dim))
+                .copy_from_slice(y.get(..dim.min(y.len())).unwrap_or(&[]));
+            v
+        })
         .collect();
     let weight = (0..ata.nrows())
         .map(|i| ata[(i, i)])
@@ -383,6 +441,7 @@ mod tests {
                     angular_velocity,
                     force: w.force,
                     torque: w.torque,
+                    force_cov: nalgebra::Matrix3::zeros(),
                     use_force: true,
                     use_torque: true,
                 }
@@ -465,6 +524,25 @@ mod tests {
         let noisy = force_smoothing(&takes_with_offsets(&truth, 0.5), &ctx, &cfg);
         assert!(clean <= 1e-3, "clean frames smoothed by {clean}");
         assert!(noisy > clean, "noisy takes smoothed by {noisy} <= {clean}");
+    }
+
+    #[test]
+    fn weights_are_bounded_and_discount_the_uncertain_direction() {
+        let truth = truth_model(&ObjectSpec::of(SynthObject::Box), 4).expect("model");
+        let mut frames = samples(&truth, 4, TakeKind::Drop);
+        let refs: Vec<&Sample> = frames.iter().collect();
+        assert!(force_weights(&refs)
+            .iter()
+            .all(|w| *w == Matrix3::identity()));
+        for (i, s) in frames.iter_mut().enumerate() {
+            s.force_cov = Matrix3::from_diagonal(&Vector3::new(1.0, 1.0, 1.0 + 9.0 * i as f64));
+        }
+        let refs: Vec<&Sample> = frames.iter().collect();
+        for w in force_weights(&refs) {
+            let e = w.symmetric_eigen().eigenvalues;
+            assert!(e.max() <= 1.0 + 1e-12 && e.min() > 0.0, "{e}");
+            assert!(w[(2, 2)] <= w[(0, 0)] + 1e-12);
+        }
     }
 
     #[test]

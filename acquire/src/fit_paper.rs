@@ -190,6 +190,7 @@ mod tests {
                 angular_velocity,
                 force: w.force,
                 torque: w.torque,
+                force_cov: nalgebra::Matrix3::zeros(),
                 use_force: true,
                 use_torque: true,
             });

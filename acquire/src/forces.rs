@@ -3,7 +3,7 @@
 
 use crate::filter::Smoothed;
 use crate::recording::{Object, TakeKind};
-use nalgebra::Vector3;
+use nalgebra::{Matrix3, Vector3};
 
 /// One reconstructed frame: velocities and the air's force and torque.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -24,6 +24,9 @@ pub struct Sample {
     pub force: Vector3<f64>,
     /// Aerodynamic torque T*, body frame, N m (eq. 10).
     pub torque: Vector3<f64>,
+    /// Posterior covariance of `force` from the smoother, body frame, N²
+    /// (zero: unknown; see [`Smoothed::velocity_difference_cov`]).
+    pub force_cov: Matrix3<f64>,
     /// Passes `F·V <= 0` (no thrust): used by every fit.
     pub use_force: bool,
     /// Passes `T·Ω <= 0` as well: used by the torque and damping fits.
@@ -80,6 +83,15 @@ pub fn reconstruct(
         let torque = object.inertia * (next.angular_velocity - prev.angular_velocity) / h
             + omega.cross(&(object.inertia * omega));
         let velocity = cur.orientation.inverse_transform_vector(&cur.velocity);
+        // Eq. (9) is linear in v_{k+1} - v_{k-1}: Σ_F = (M/h)² Rᵀ Σ_Δv R
+        // (the orientation's own uncertainty is neglected).
+        let rot = cur.orientation.to_rotation_matrix();
+        let force_cov = s
+            .velocity_difference_cov
+            .get(k)
+            .map_or_else(Matrix3::zeros, |c| {
+                rot.matrix().transpose() * c * rot.matrix() * (object.mass / h).powi(2)
+            });
         let all = [force, torque, velocity, omega];
         if all.iter().any(|v| v.iter().any(|x| !x.is_finite())) {
             stats.non_finite += 1;
@@ -102,6 +114,7 @@ pub fn reconstruct(
             angular_velocity: omega,
             force,
             torque,
+            force_cov,
             use_force,
             use_torque,
         });

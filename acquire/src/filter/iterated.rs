@@ -15,6 +15,7 @@
 use super::{finite, smooth, Filter, Step};
 use crate::state::{boxminus, boxplus, Cov, FilterState};
 use crate::tracks::Epoch;
+use nalgebra::Matrix3;
 
 use super::FilterStats;
 
@@ -98,18 +99,19 @@ impl Filter<'_> {
         &self,
         epochs: &[Epoch],
         initial: FilterState,
-        mut smoothed: Vec<FilterState>,
+        reference: (Vec<FilterState>, Vec<Matrix3<f64>>),
         switched: &[bool],
         mut stats: FilterStats,
         sweeps: usize,
-    ) -> (Vec<FilterState>, FilterStats) {
+    ) -> ((Vec<FilterState>, Vec<Matrix3<f64>>), FilterStats) {
+        let (mut smoothed, mut dv) = reference;
         for _ in 0..sweeps {
             let mut s = FilterStats {
                 mirror_switches: stats.mirror_switches,
                 ..FilterStats::default()
             };
             let steps = self.forward_about(epochs, initial, &smoothed, switched, &mut s);
-            let next = smooth(&steps);
+            let (next, next_dv) = smooth(&steps);
             if next.len() != smoothed.len()
                 || next.iter().any(|x| !finite(x))
                 || diverged(&s, &stats)
@@ -122,12 +124,13 @@ impl Filter<'_> {
                 .map(|(a, b)| (a.body.position - b.body.position).norm())
                 .fold(0.0, f64::max);
             smoothed = next;
+            dv = next_dv;
             stats = s;
             if moved < CONVERGED_POSITION {
                 break;
             }
         }
-        (smoothed, stats)
+        ((smoothed, dv), stats)
     }
 }
 
