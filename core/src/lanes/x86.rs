@@ -13,10 +13,10 @@ use crate::coefficients::SETS;
 use crate::sh::MAX_DEGREE;
 use crate::{Coefficients, Wrench};
 use core::arch::x86_64::{
-    __cpuid, __m128, __m256, _mm256_add_ps, _mm256_castps256_ps128, _mm256_extractf128_ps,
-    _mm256_fmadd_ps, _mm256_fmsub_ps, _mm256_hadd_ps, _mm256_load_ps, _mm256_mul_ps,
-    _mm256_set1_ps, _mm256_set_m128, _mm256_setzero_ps, _mm_add_ps, _mm_mul_ps, _mm_set1_ps,
-    _mm_set_ps, _mm_setzero_ps, _mm_storeu_ps, _mm_sub_ps, _xgetbv,
+    __cpuid, __m128, __m256, _mm256_castps256_ps128, _mm256_extractf128_ps, _mm256_fmadd_ps,
+    _mm256_fmsub_ps, _mm256_hadd_ps, _mm256_load_ps, _mm256_mul_ps, _mm256_set1_ps,
+    _mm256_set_m128, _mm256_setzero_ps, _mm_add_ps, _mm_mul_ps, _mm_set1_ps, _mm_set_ps,
+    _mm_setzero_ps, _mm_storeu_ps, _mm_sub_ps, _xgetbv,
 };
 use core::sync::atomic::{AtomicU8, Ordering};
 use nalgebra::Vector3;
@@ -184,12 +184,15 @@ fn powers(degree: usize, dir: &Vector3<f32>) -> [(__m128, __m128); 4] {
 #[target_feature(enable = "avx,fma")]
 #[inline]
 fn add_group(
-    acc: &mut [[__m256; SETS]; 2],
+    sums: &mut [__m256; SETS],
     blocks: &[Block<f32>],
     ab: &[[Lanes<f32>; 2]],
     (cm, sm): (__m256, __m256),
     z: __m256,
 ) {
+    // Σ_j w q_j per lane; the lane's cm, sm (constant in j) multiply once
+    // at the end, which keeps them off the loop's critical path.
+    let mut acc = [[_mm256_setzero_ps(); SETS]; 2];
     let (mut q2, mut q1) = (_mm256_setzero_ps(), _mm256_set1_ps(1.0));
     for (j, ([cos, sin], [a, ab])) in blocks.iter().zip(ab).enumerate() {
         if j > 0 {
@@ -197,14 +200,17 @@ fn add_group(
             let q = _mm256_fmsub_ps(az, q1, _mm256_mul_ps(load(ab), q2));
             (q2, q1) = (q1, q);
         }
-        let (qc, qs) = (_mm256_mul_ps(q1, cm), _mm256_mul_ps(q1, sm));
-        let [acc_cos, acc_sin] = acc;
+        let [acc_cos, acc_sin] = &mut acc;
         for (s, w) in acc_cos.iter_mut().zip(cos) {
-            *s = _mm256_fmadd_ps(load(w), qc, *s);
+            *s = _mm256_fmadd_ps(load(w), q1, *s);
         }
         for (s, w) in acc_sin.iter_mut().zip(sin) {
-            *s = _mm256_fmadd_ps(load(w), qs, *s);
+            *s = _mm256_fmadd_ps(load(w), q1, *s);
         }
+    }
+    let [acc_cos, acc_sin] = acc;
+    for ((s, c), si) in sums.iter_mut().zip(acc_cos).zip(acc_sin) {
+        *s = _mm256_fmadd_ps(c, cm, _mm256_fmadd_ps(si, sm, *s));
     }
 }
 
@@ -241,7 +247,7 @@ fn accumulate_avx(degree: usize, dir: &Vector3<f32>, blocks: &[Block<f32>; BLOCK
     let [p0, p1, p2, p3] = powers(degree, dir);
     let halves = [(p0, p1), (p2, p3)];
     let z = _mm256_set1_ps(dir.z);
-    let mut acc = [[_mm256_setzero_ps(); SETS]; 2];
+    let mut sums = [_mm256_setzero_ps(); SETS];
     let groups = halves.iter().zip(&t.scale);
     for (g, ((low, high), scale)) in groups.enumerate().take(degree / LANES + 1) {
         let steps = degree + 1 - LANES * g;
@@ -250,12 +256,7 @@ fn accumulate_avx(degree: usize, dir: &Vector3<f32>, blocks: &[Block<f32>; BLOCK
         let k = load(scale);
         let seeds = (_mm256_mul_ps(k, re), _mm256_mul_ps(k, im));
         let blocks = group_blocks(blocks, g, steps);
-        add_group(&mut acc, blocks, group_ab(t, g, steps), seeds, z);
-    }
-    let [cos, sin] = acc;
-    let mut sums = cos;
-    for (s, t) in sums.iter_mut().zip(sin) {
-        *s = _mm256_add_ps(*s, t);
+        add_group(&mut sums, blocks, group_ab(t, g, steps), seeds, z);
     }
     lane_sums(sums)
 }
