@@ -155,42 +155,34 @@ const LANE_SCALE: [f64; ORDERS] = {
     k
 };
 
-/// [`LANE_AB`] and [`LANE_SCALE`] rounded once, at compile time, to `T`.
-macro_rules! lane_tables {
-    ($t:ty) => {{
-        let mut t = LaneTables {
-            ab: [[Lanes([0.0; LANES]); 2]; BLOCKS],
-            scale: [Lanes([0.0; LANES]); GROUPS],
-        };
-        let mut i = 0;
-        while i < BLOCKS {
-            let mut p = 0;
-            while p < 2 {
-                let mut k = 0;
-                while k < LANES {
-                    t.ab[i][p].0[k] = LANE_AB[i][p][k] as $t;
-                    k += 1;
-                }
-                p += 1;
+/// [`LANE_AB`] and [`LANE_SCALE`] rounded once, at compile time, to f32
+/// (the SIMD path's type).
+#[allow(clippy::indexing_slicing)]
+pub static LANES_F32: LaneTables<f32> = {
+    let mut t = LaneTables {
+        ab: [[Lanes([0.0; LANES]); 2]; BLOCKS],
+        scale: [Lanes([0.0; LANES]); GROUPS],
+    };
+    let mut i = 0;
+    while i < BLOCKS {
+        let mut p = 0;
+        while p < 2 {
+            let mut k = 0;
+            while k < LANES {
+                t.ab[i][p].0[k] = LANE_AB[i][p][k] as f32;
+                k += 1;
             }
-            i += 1;
+            p += 1;
         }
-        let mut m = 0;
-        while m < ORDERS {
-            t.scale[m / LANES].0[m % LANES] = LANE_SCALE[m] as $t;
-            m += 1;
-        }
-        t
-    }};
-}
-
-/// The constants in f64.
-#[allow(clippy::indexing_slicing)]
-pub static LANES_F64: LaneTables<f64> = lane_tables!(f64);
-
-/// The constants in f32.
-#[allow(clippy::indexing_slicing)]
-pub static LANES_F32: LaneTables<f32> = lane_tables!(f32);
+        i += 1;
+    }
+    let mut m = 0;
+    while m < ORDERS {
+        t.scale[m / LANES].0[m % LANES] = LANE_SCALE[m] as f32;
+        m += 1;
+    }
+    t
+};
 
 /// `a b` for complex numbers `(re, im)`, in the canonical operation order.
 #[inline(always)]

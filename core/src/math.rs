@@ -22,63 +22,16 @@ pub trait Real: RealField + Copy + Default + core::fmt::Debug {
     fn finite(self) -> bool;
     /// The spherical-harmonic recurrence constants in this type.
     fn walk_tables() -> &'static crate::sh::WalkTables<Self>;
-    /// The recurrence constants in the SIMD path's lane layout.
-    fn lane_tables() -> &'static crate::lanes::LaneTables<Self>;
     /// Coefficient storage of this type's SIMD path
     /// ([`crate::lanes::SimdCoefficients`]); `()` when it has none.
     type Simd: crate::lanes::SimdCoefficients<Self>;
-    /// `acc[j] += row[j] * y` for every lane. Not fused: each lane rounds
-    /// the product, then the sum, exactly like scalar code, so a SIMD
-    /// implementation gives bit-identical results.
-    #[inline(always)]
-    fn accumulate_row<const W: usize>(acc: &mut [Self; W], row: &[Self; W], y: Self) {
-        for (a, &w) in acc.iter_mut().zip(row) {
-            *a += w * y;
-        }
-    }
 }
 
 impl Real for f32 {
-    #[inline(always)]
-    fn accumulate_row<const W: usize>(acc: &mut [Self; W], row: &[Self; W], y: Self) {
-        #[cfg(target_arch = "x86_64")]
-        if W == 8 {
-            // SSE2 is part of the x86_64 baseline: two 4-lane mul + add.
-            use core::arch::x86_64::{
-                _mm_add_ps, _mm_loadu_ps, _mm_mul_ps, _mm_set1_ps, _mm_storeu_ps,
-            };
-            // SAFETY: SSE is enabled on every x86_64 target; W == 8, so
-            // both arrays hold 8 contiguous f32 and the unaligned loads and
-            // stores at offsets 0 and 4 stay in bounds.
-            unsafe {
-                let yv = _mm_set1_ps(y);
-                let (a, r) = (acc.as_mut_ptr(), row.as_ptr());
-                _mm_storeu_ps(
-                    a,
-                    _mm_add_ps(_mm_loadu_ps(a), _mm_mul_ps(_mm_loadu_ps(r), yv)),
-                );
-                _mm_storeu_ps(
-                    a.add(4),
-                    _mm_add_ps(
-                        _mm_loadu_ps(a.add(4)),
-                        _mm_mul_ps(_mm_loadu_ps(r.add(4)), yv),
-                    ),
-                );
-            }
-            return;
-        }
-        for (a, &w) in acc.iter_mut().zip(row) {
-            *a += w * y;
-        }
-    }
     #[cfg(target_arch = "x86_64")]
     type Simd = crate::lanes::x86::LaneBlocks;
     #[cfg(not(target_arch = "x86_64"))]
     type Simd = ();
-    #[inline(always)]
-    fn lane_tables() -> &'static crate::lanes::LaneTables<Self> {
-        &crate::lanes::LANES_F32
-    }
     #[inline(always)]
     fn walk_tables() -> &'static crate::sh::WalkTables<Self> {
         &crate::sh::WALK_F32
@@ -130,10 +83,6 @@ impl Real for f32 {
 
 impl Real for f64 {
     type Simd = ();
-    #[inline(always)]
-    fn lane_tables() -> &'static crate::lanes::LaneTables<Self> {
-        &crate::lanes::LANES_F64
-    }
     #[inline(always)]
     fn walk_tables() -> &'static crate::sh::WalkTables<Self> {
         &crate::sh::WALK_F64

@@ -252,7 +252,9 @@ pub fn accumulate<T: Real, const W: usize>(
     let mut rows = rows.iter();
     walk(degree, dir, |y| {
         if let Some(row) = rows.next() {
-            T::accumulate_row(&mut acc, row, y);
+            for (a, &w) in acc.iter_mut().zip(row) {
+                *a += w * y;
+            }
         }
     });
     acc
