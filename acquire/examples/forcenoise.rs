@@ -5,15 +5,13 @@
 //! plus white noise of that RMS and reports the C_F error of both fits:
 //! `cargo run --release -p omniad-acquire --example forcenoise -- SET`.
 
-use nalgebra::{Quaternion, UnitQuaternion, Vector3};
-use omniad_acquire::filter::{FilterStats, Smoothed};
+use nalgebra::Vector3;
 use omniad_acquire::forces::ForceStats;
 use omniad_acquire::model::zero_model;
 use omniad_acquire::pipeline::{self, FitConfig, Silent};
 use omniad_acquire::recording::RecordingSet;
 use omniad_acquire::rng::Rng;
-use omniad_acquire::truth::{force_error, read_coefficients, read_states};
-use omniad_core::State;
+use omniad_acquire::truth::{force_error, read_coefficients, true_trajectories};
 use std::collections::HashMap;
 use std::path::Path;
 
@@ -23,28 +21,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let set = RecordingSet::load(dir)?;
     let cfg = FitConfig::default();
     let out = pipeline::fit(&set, &cfg, &Silent)?;
-    let mut smoothed = Vec::new();
-    for take in &set.takes {
-        let truth = read_states(&dir.join("truth").join(format!("{}.csv", take.name)))?;
-        let states = truth
-            .iter()
-            .map(|r| State {
-                position: Vector3::new(r[1], r[2], r[3]),
-                orientation: UnitQuaternion::from_quaternion(Quaternion::new(
-                    r[4], r[5], r[6], r[7],
-                )),
-                velocity: Vector3::new(r[8], r[9], r[10]),
-                angular_velocity: Vector3::new(r[11], r[12], r[13]),
-            })
-            .collect();
-        smoothed.push(Smoothed {
-            times: truth.iter().map(|r| r[0]).collect(),
-            states,
-            cuts: Vec::new(),
-            velocity_difference_cov: Vec::new(),
-            stats: FilterStats::default(),
-        });
-    }
+    let smoothed = true_trajectories(dir, &set)?;
     let mut stats = ForceStats::default();
     let true_frames = pipeline::samples(&set, &smoothed, &mut stats);
     let by_key: HashMap<(usize, usize), usize> = true_frames

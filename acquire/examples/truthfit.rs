@@ -3,42 +3,18 @@
 //! `truth/coefficients.csv`:
 //! `cargo run --release -p omniad-acquire --example truthfit -- SET [smoothing]`.
 
-use nalgebra::{Quaternion, UnitQuaternion, Vector3};
-use omniad_acquire::filter::{FilterStats, Smoothed};
 use omniad_acquire::forces::ForceStats;
 use omniad_acquire::model::zero_model;
 use omniad_acquire::pipeline::{self, FitConfig};
 use omniad_acquire::recording::RecordingSet;
-use omniad_acquire::truth::{force_error, read_coefficients, read_states};
-use omniad_core::State;
+use omniad_acquire::truth::{force_error, read_coefficients, read_states, true_trajectories};
 use std::path::Path;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<String> = std::env::args().collect();
     let dir = Path::new(args.get(1).ok_or("usage: truthfit SET")?);
     let set = RecordingSet::load(dir)?;
-    let mut smoothed = Vec::new();
-    for take in &set.takes {
-        let truth = read_states(&dir.join("truth").join(format!("{}.csv", take.name)))?;
-        let states = truth
-            .iter()
-            .map(|r| State {
-                position: Vector3::new(r[1], r[2], r[3]),
-                orientation: UnitQuaternion::from_quaternion(Quaternion::new(
-                    r[4], r[5], r[6], r[7],
-                )),
-                velocity: Vector3::new(r[8], r[9], r[10]),
-                angular_velocity: Vector3::new(r[11], r[12], r[13]),
-            })
-            .collect();
-        smoothed.push(Smoothed {
-            times: truth.iter().map(|r| r[0]).collect(),
-            states,
-            cuts: Vec::new(),
-            velocity_difference_cov: Vec::new(),
-            stats: FilterStats::default(),
-        });
-    }
+    let smoothed = true_trajectories(dir, &set)?;
     let mut cfg = FitConfig::default();
     if let Some(x) = args.get(2).and_then(|s| s.parse().ok()) {
         cfg.lsq.smoothing = x;

@@ -28,6 +28,39 @@ pub fn read_states(path: &Path) -> Result<Vec<[f64; 14]>> {
     Ok(out)
 }
 
+/// The true trajectory of every take of the set in `dir` (from
+/// `truth/<take>.csv`), in the form the force computation takes, for
+/// diagnostics that fit from true states.
+pub fn true_trajectories(
+    dir: &Path,
+    set: &crate::recording::RecordingSet,
+) -> Result<Vec<Smoothed>> {
+    set.takes
+        .iter()
+        .map(|take| {
+            let truth = read_states(&dir.join("truth").join(format!("{}.csv", take.name)))?;
+            let states = truth
+                .iter()
+                .map(|r| omniad_core::State {
+                    position: Vector3::new(r[1], r[2], r[3]),
+                    orientation: UnitQuaternion::from_quaternion(nalgebra::Quaternion::new(
+                        r[4], r[5], r[6], r[7],
+                    )),
+                    velocity: Vector3::new(r[8], r[9], r[10]),
+                    angular_velocity: Vector3::new(r[11], r[12], r[13]),
+                })
+                .collect();
+            Ok(Smoothed {
+                times: truth.iter().map(|r| r[0]).collect(),
+                states,
+                cuts: Vec::new(),
+                velocity_difference_cov: Vec::new(),
+                stats: crate::filter::FilterStats::default(),
+            })
+        })
+        .collect()
+}
+
 /// Squared-error sums of a reconstruction against truth rows matched by time.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct StateError {
