@@ -7,7 +7,9 @@
 
 use omniad_acquire::pipeline::{self, FitConfig, Method, Silent};
 use omniad_acquire::recording::RecordingSet;
-use omniad_acquire::truth::{force_error, read_coefficients, read_states, state_error, StateError};
+use omniad_acquire::truth::{
+    fitted_directions, force_error, read_coefficients, read_states, state_error, StateError,
+};
 use std::path::Path;
 use std::time::Instant;
 
@@ -99,12 +101,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         );
     }
     let truth = read_coefficients(&dir.join("truth/coefficients.csv"))?;
-    let dirs: Vec<_> = out
-        .samples
-        .iter()
-        .filter(|s| s.use_force && s.velocity.norm() > 0.0)
-        .map(|s| s.velocity.normalize())
-        .collect();
+    let dirs = fitted_directions(&out.samples);
     let (err, n) = force_error(&out.model, &truth, &dirs, 20, 15f64.to_radians());
     println!(
         "C_F relative L2 error {:.2} % over {n} grid directions",

@@ -11,7 +11,7 @@ use omniad_acquire::model::zero_model;
 use omniad_acquire::pipeline::{self, FitConfig, Silent};
 use omniad_acquire::recording::RecordingSet;
 use omniad_acquire::rng::Rng;
-use omniad_acquire::truth::{force_error, read_coefficients, true_trajectories};
+use omniad_acquire::truth::{fitted_directions, force_error, read_coefficients, true_trajectories};
 use std::collections::HashMap;
 use std::path::Path;
 
@@ -57,12 +57,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         (sum / n.max(1) as f64).as_slice()
     );
     let truth = read_coefficients(&dir.join("truth/coefficients.csv"))?;
-    let dirs: Vec<_> = out
-        .samples
-        .iter()
-        .filter(|s| s.use_force && s.velocity.norm() > 0.0)
-        .map(|s| s.velocity.normalize())
-        .collect();
+    let dirs = fitted_directions(&out.samples);
     let (err, k) = force_error(&out.model, &truth, &dirs, 20, 15f64.to_radians());
     println!("pipeline fit: C_F {:.2} % over {k} directions", err * 100.0);
     let mut rng = Rng::new(1);

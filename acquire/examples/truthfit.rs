@@ -7,7 +7,9 @@ use omniad_acquire::forces::ForceStats;
 use omniad_acquire::model::zero_model;
 use omniad_acquire::pipeline::{self, FitConfig};
 use omniad_acquire::recording::RecordingSet;
-use omniad_acquire::truth::{force_error, read_coefficients, read_states, true_trajectories};
+use omniad_acquire::truth::{
+    fitted_directions, force_error, read_coefficients, read_states, true_trajectories,
+};
 use std::path::Path;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
@@ -27,11 +29,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let base = zero_model(&set.object, cfg.degree)?;
     let model = pipeline::fit_samples(&base, &frames, &set, &cfg)?;
     let truth = read_coefficients(&dir.join("truth/coefficients.csv"))?;
-    let dirs: Vec<_> = frames
-        .iter()
-        .filter(|s| s.use_force && s.velocity.norm() > 0.0)
-        .map(|s| s.velocity.normalize())
-        .collect();
+    let dirs = fitted_directions(&frames);
     let (err, n) = force_error(&model, &truth, &dirs, 20, 15f64.to_radians());
     println!("{stats:?}");
     println!(

@@ -125,6 +125,16 @@ pub fn read_coefficients(path: &Path) -> Result<Vec<[Vector3<f64>; 3]>> {
     Ok(out)
 }
 
+/// The body-frame air directions of the frames that entered the force fit,
+/// for [`force_error`]'s coverage count.
+pub fn fitted_directions(samples: &[crate::forces::Sample]) -> Vec<Vector3<f64>> {
+    samples
+        .iter()
+        .filter(|s| s.use_force && s.velocity.norm() > 0.0)
+        .map(|s| s.velocity.normalize())
+        .collect()
+}
+
 /// Relative L2 error of the model's `C_F` over the truth grid directions
 /// that have at least `min_frames` of `directions` within `angle` rad:
 /// `sqrt(Σ|C_F - C_F*|² / Σ|C_F*|²)`, and the number of such directions.
