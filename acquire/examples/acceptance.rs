@@ -30,7 +30,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let floor = std::env::var("FLOOR")
         .ok()
         .and_then(|s| s.parse().ok())
-        .unwrap_or(0.1);
+        .unwrap_or(FitConfig::default().noise_floor);
     let mut cfg = FitConfig {
         method,
         iterations,

@@ -148,6 +148,7 @@ pub fn fit(samples: &[Sample], ctx: &FitContext, degree: usize) -> RawModel {
         alpha: convolve(&force, ctx, degree),
         beta: convolve(&torque, ctx, degree),
         damping,
+        spin_coupling: None,
     }
 }
 

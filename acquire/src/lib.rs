@@ -15,6 +15,7 @@ pub mod filter;
 pub mod fit_cv;
 pub mod fit_lsq;
 pub mod fit_paper;
+pub mod fit_spin;
 pub mod forces;
 pub mod import;
 pub mod measurement;

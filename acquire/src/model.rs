@@ -52,5 +52,7 @@ pub fn with_raw(base: &Coefficients<f64>, raw: &RawModel) -> Result<Coefficients
     }
     m.set_damping(&crate::damping::matrix(&raw.damping))
         .map_err(model_error)?;
+    m.set_spin_coupling(raw.spin_coupling)
+        .map_err(model_error)?;
     Ok(m)
 }

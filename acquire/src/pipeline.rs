@@ -38,14 +38,14 @@ pub struct FitConfig {
     /// Filter settings (pixel noise is taken from the camera).
     pub filter: FilterConfig,
     /// Lower bound of the refined process noise, as a fraction of the
-    /// no-model noise of [`initial_noise`] (default 0.1).
+    /// no-model noise of [`initial_noise`] (default 0.02).
     pub noise_floor: f64,
     /// How many of the last iterations reconstruct with the filter's
     /// relinearised sweeps (`filter.relinearise`; the others with none).
-    /// Default 1: with models fitted from relinearised early
-    /// reconstructions, the mirror-branch test (`Filter::mirror_test`)
-    /// was seen to pick wrong branches (the model-free first iteration
-    /// picks wrong ones too, so later iterations must test afresh).
+    /// Default: all. (With the old noise floor of 0.1, relinearised early
+    /// iterations were seen to lead the mirror-branch test astray; with
+    /// the floor at 0.02 all-relinearised runs were better on every set
+    /// measured, see BENCHMARKS.md.)
     pub relinearised_iterations: usize,
 }
 
@@ -57,8 +57,8 @@ impl Default for FitConfig {
             iterations: 3,
             lsq: LsqConfig::default(),
             filter: FilterConfig::default(),
-            noise_floor: 0.1,
-            relinearised_iterations: 1,
+            noise_floor: 0.02,
+            relinearised_iterations: usize::MAX,
         }
     }
 }
@@ -369,7 +369,7 @@ pub fn fit(set: &RecordingSet, cfg: &FitConfig, progress: &dyn Progress) -> Resu
             set.takes.len(),
         );
         let mut filter = cfg.filter.clone();
-        if it + cfg.relinearised_iterations < cfg.iterations {
+        if it.saturating_add(cfg.relinearised_iterations) < cfg.iterations {
             filter.relinearise = 0;
         }
         let smoothed = reconstruct(set, &model, noise, &filter, progress)?;

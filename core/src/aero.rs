@@ -76,14 +76,29 @@ impl<T: Real> Coefficients<T> {
     /// * `angular_velocity`: Ω, body frame, rad/s;
     /// * `air_density`: ρ, kg/m³.
     ///
-    /// `V = 0` gives no velocity term; `Ω = 0` no damping term.
+    /// `V = 0` gives no velocity term; `Ω = 0` no damping term. A model
+    /// with the spin-coupling extension ([`crate::spin_coupling`]) adds its
+    /// force.
     pub fn wrench(
         &self,
         velocity: &Vector3<T>,
         angular_velocity: &Vector3<T>,
         air_density: T,
     ) -> Wrench<T> {
-        T::Simd::wrench(self, velocity, angular_velocity, air_density)
+        let mut w = T::Simd::wrench(self, velocity, angular_velocity, air_density);
+        if let Some(spin) = self.spin_coupling() {
+            let f = spin.force(
+                velocity,
+                angular_velocity,
+                air_density,
+                self.reference_length(),
+            );
+            // Like eqs. (5)-(6) above: a non-finite input adds nothing.
+            if crate::math::vector_is_finite(&f) {
+                w.force += f;
+            }
+        }
+        w
     }
 
     /// [`Self::wrench`], inlined into the caller.

@@ -5,6 +5,7 @@
 use crate::lanes::SimdCoefficients;
 use crate::math::{is_positive_semidefinite, six_from_symmetric, symmetric_from_six, Real};
 use crate::sh::{self, MAX_COEFFS, MAX_DEGREE};
+use crate::spin_coupling::SpinCoupling;
 use nalgebra::{Matrix3, Vector3};
 
 /// Number of interleaved coefficient sets: `alpha^1..3`, `beta^1..3`.
@@ -24,7 +25,7 @@ pub const COVERAGE_CELLS: usize = COVERAGE_LON * COVERAGE_LAT;
 /// Most model extensions in one model.
 pub const MAX_EXTENSIONS: usize = 8;
 /// Largest extension payload, in bytes.
-pub const EXTENSION_CAPACITY: usize = 96;
+pub const EXTENSION_CAPACITY: usize = 112;
 
 /// Why a model (or a value for it) is not acceptable. Small and `Copy`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -45,6 +46,8 @@ pub enum ModelError {
     CapacityExceeded(&'static str),
     /// Index out of range; names what was indexed.
     OutOfRange(&'static str),
+    /// A second extension of a kind a model holds once (the kind).
+    DuplicateExtension(u16),
 }
 
 impl core::fmt::Display for ModelError {
@@ -63,6 +66,9 @@ impl core::fmt::Display for ModelError {
             Self::BadBody => write!(f, "mass must be positive and inertia positive definite"),
             Self::CapacityExceeded(field) => write!(f, "{field} exceeds its fixed capacity"),
             Self::OutOfRange(what) => write!(f, "{what} index out of range"),
+            Self::DuplicateExtension(kind) => {
+                write!(f, "a model holds one extension of kind {kind}")
+            }
         }
     }
 }
@@ -109,6 +115,8 @@ pub mod extension_kind {
     pub const ADDED_MASS: u16 = 1;
     /// Buoyancy of displaced air (reserved).
     pub const BUOYANCY: u16 = 2;
+    /// A force bilinear in Ω and V ([`crate::spin_coupling`]).
+    pub const SPIN_COUPLING: u16 = 3;
 }
 
 /// A model extension: a term outside eqs. (5)-(6), stored as a tagged,
@@ -146,8 +154,11 @@ pub struct Coefficients<T: Real> {
     pub body: Option<MassProperties>,
     /// How these coefficients were made.
     pub provenance: Provenance,
-    /// Terms outside eqs. (5)-(6).
-    pub extensions: heapless::Vec<Extension, MAX_EXTENSIONS>,
+    /// Terms outside eqs. (5)-(6), as stored ([`Self::extensions`]).
+    extensions: heapless::Vec<Extension, MAX_EXTENSIONS>,
+    /// The decoded spin-coupling extension, if any (kept equal to
+    /// `extensions` by every method that changes them).
+    spin_coupling: Option<SpinCoupling<T>>,
 }
 
 impl<T: Real> Coefficients<T> {
@@ -167,6 +178,7 @@ impl<T: Real> Coefficients<T> {
             body: None,
             provenance: Provenance::default(),
             extensions: heapless::Vec::new(),
+            spin_coupling: None,
         })
     }
 
@@ -197,6 +209,7 @@ impl<T: Real> Coefficients<T> {
         self.provenance.torque_residuals.clear();
         self.provenance.coverage.clear();
         self.extensions.clear();
+        self.spin_coupling = None;
         Ok(())
     }
 
@@ -268,6 +281,52 @@ impl<T: Real> Coefficients<T> {
     pub fn damping(&self) -> Matrix3<T> {
         self.damping
     }
+    /// Terms outside eqs. (5)-(6), in file order.
+    pub fn extensions(&self) -> &[Extension] {
+        &self.extensions
+    }
+
+    /// Adds an extension. Kinds this build evaluates are checked first (a
+    /// malformed payload or a second extension of such a kind is an error);
+    /// unknown kinds are kept as they are. Full: `CapacityExceeded`.
+    pub fn add_extension(&mut self, e: Extension) -> Result<(), ModelError> {
+        let spin = SpinCoupling::from_extension(&e)?;
+        if spin.is_some() && self.spin_coupling.is_some() {
+            return Err(ModelError::DuplicateExtension(e.kind));
+        }
+        self.extensions
+            .push(e)
+            .map_err(|_| ModelError::CapacityExceeded("extensions"))?;
+        if spin.is_some() {
+            self.spin_coupling = spin;
+        }
+        Ok(())
+    }
+
+    /// Removes every extension of `kind`.
+    pub fn remove_extensions(&mut self, kind: u16) {
+        self.extensions.retain(|e| e.kind != kind);
+        if kind == crate::coefficients::extension_kind::SPIN_COUPLING {
+            self.spin_coupling = None;
+        }
+    }
+
+    /// The spin-coupling force's tensor, if the model has one
+    /// ([`crate::spin_coupling`]); [`Self::wrench`] adds its force.
+    pub fn spin_coupling(&self) -> Option<&SpinCoupling<T>> {
+        self.spin_coupling.as_ref()
+    }
+
+    /// Sets (or with `None` removes) the spin-coupling extension.
+    pub fn set_spin_coupling(&mut self, s: Option<SpinCoupling<T>>) -> Result<(), ModelError> {
+        let ext = s.map(|s| s.to_extension()).transpose()?;
+        self.remove_extensions(extension_kind::SPIN_COUPLING);
+        match ext {
+            Some(e) => self.add_extension(e),
+            None => Ok(()),
+        }
+    }
+
     /// Sets D; it must be finite, symmetric positive semi-definite (§4.1).
     /// The symmetric part of `d` is stored.
     pub fn set_damping(&mut self, d: &Matrix3<T>) -> Result<(), ModelError> {
@@ -376,6 +435,9 @@ impl<T: Real> Coefficients<T> {
             body: self.body,
             provenance: self.provenance.clone(),
             extensions: self.extensions.clone(),
+            spin_coupling: self.spin_coupling.map(|s| SpinCoupling {
+                k: s.k.map(|row| row.map(c)),
+            }),
         };
         for k in 0..self.coeff_count() {
             for set in 0..SETS {

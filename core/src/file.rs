@@ -238,8 +238,8 @@ fn write_payload<T: Real>(m: &Coefficients<T>, w: &mut Writer<'_>) -> Result<(),
     for c in p.coverage.iter() {
         w.put(c)?;
     }
-    w.put(&(m.extensions.len() as u8))?;
-    for e in m.extensions.iter() {
+    w.put(&(m.extensions().len() as u8))?;
+    for e in m.extensions().iter() {
         w.put(&e.kind)?;
         w.put(&e.version)?;
         w.put(&(e.data.len() as u8))?;
@@ -354,7 +354,7 @@ fn read_payload_v1<T: Real>(r: &mut Reader<'_>, m: &mut Coefficients<T>) -> Resu
         m.body = Some(props);
     }
     read_provenance(r, &mut m.provenance)?;
-    read_extensions(r, &mut m.extensions)?;
+    read_extensions(r, m)?;
     Ok(())
 }
 
@@ -390,10 +390,10 @@ fn read_provenance(r: &mut Reader<'_>, p: &mut Provenance) -> Result<(), FileErr
     Ok(())
 }
 
-/// Reads extensions into `out`, which must be empty (after `reset`).
-fn read_extensions(
+/// Reads extensions into `out`, which must have none (after `reset`).
+fn read_extensions<T: Real>(
     r: &mut Reader<'_>,
-    out: &mut heapless::Vec<Extension, MAX_EXTENSIONS>,
+    out: &mut Coefficients<T>,
 ) -> Result<(), FileError> {
     let n: u8 = r.take("extensions")?;
     if n as usize > MAX_EXTENSIONS {
@@ -415,7 +415,10 @@ fn read_extensions(
                 .push(b)
                 .map_err(|_| FileError::BadCount("extension.data"))?;
         }
-        out.push(e).map_err(|_| FileError::BadCount("extensions"))?;
+        out.add_extension(e).map_err(|err| match err {
+            ModelError::CapacityExceeded(_) => FileError::BadCount("extensions"),
+            other => other.into(),
+        })?;
     }
     Ok(())
 }

@@ -10,6 +10,8 @@
 //! * [`coefficients`]: the coefficient model (alpha, beta, D, provenance, extensions).
 //! * [`aero`]: aerodynamic force and torque, eqs. (5)-(6).
 //! * [`rigid_body`], [`integrate`]: eqs. (1)-(2) and a pure fixed-step RK4 step.
+//! * [`spin_coupling`]: a model extension, the force bilinear in Ω and V
+//!   (Magnus, added-mass coupling).
 //! * [`file`]: the `*.omni` coefficient file format.
 //!
 //! Every quantity is SI (m, kg, s, rad) unless a doc comment says otherwise.
@@ -42,6 +44,7 @@ pub mod math;
 pub mod quadrature;
 pub mod rigid_body;
 pub mod sh;
+pub mod spin_coupling;
 
 pub use aero::Wrench;
 pub use coefficients::{Coefficients, ModelError};

@@ -35,10 +35,10 @@ fn largest_model_fits_the_advertised_buffer() {
             m.set_beta(i, k, 9.876e5).unwrap();
         }
     }
-    while m.extensions.len() < m.extensions.capacity() {
-        let mut e = m.extensions[0].clone();
+    while m.extensions().len() < omniad_core::coefficients::MAX_EXTENSIONS {
+        let mut e = m.extensions()[0].clone();
         while e.data.push(0xFF).is_ok() {}
-        m.extensions.push(e).unwrap();
+        m.add_extension(e).unwrap();
     }
     let bytes = encoded(&m);
     assert!(bytes.len() <= MAX_FILE_SIZE);

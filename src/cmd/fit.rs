@@ -36,9 +36,25 @@ pub struct FitArgs {
     /// Refinement iterations (filter + fit rounds, §6).
     #[arg(long, default_value_t = 3)]
     pub iterations: usize,
+    /// Fit the spin-coupling extension (a force bilinear in Ω and V:
+    /// Magnus, added-mass coupling) and keep it when leave-one-take-out
+    /// cross-validation says it predicts held-out takes better (`auto`),
+    /// or never (`off`: the paper's model only). `--method paper` never
+    /// fits it.
+    #[arg(long, value_enum, default_value_t = SpinCouplingArg::Auto)]
+    pub spin_coupling: SpinCouplingArg,
     /// Print a JSON report on stdout.
     #[arg(long)]
     pub json: bool,
+}
+
+/// Whether `omniad fit` may add the spin-coupling extension.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum SpinCouplingArg {
+    /// Fit it; keep it when cross-validation says so.
+    Auto,
+    /// Never fit it.
+    Off,
 }
 
 /// Progress bars on stderr, one per pipeline stage.
@@ -94,12 +110,13 @@ pub fn run(a: &FitArgs) -> Result<()> {
         MethodArg::Lsq => Method::Lsq,
         MethodArg::Paper => Method::Paper,
     };
-    let cfg = FitConfig {
+    let mut cfg = FitConfig {
         degree: a.degree,
         method,
         iterations: a.iterations,
         ..FitConfig::default()
     };
+    cfg.lsq.spin_coupling = a.spin_coupling == SpinCouplingArg::Auto;
     let outcome = {
         let bars = Bars::default();
         pipeline::fit(&set, &cfg, &bars).map_err(|e| anyhow::anyhow!("{e}"))?
@@ -138,6 +155,14 @@ fn summary(o: &FitOutcome, a: &FitArgs, total: f64) {
             r.residual.1,
             r.seconds
         );
+    }
+    match o.model.spin_coupling() {
+        Some(k) => println!(
+            "spin coupling kept (cross-validated): Magnus part {:.4}, |K| {:.4}",
+            super::info::magnus_scale(&k.k),
+            k.k.iter().flatten().map(|x| x * x).sum::<f64>().sqrt()
+        ),
+        None => println!("spin coupling: none"),
     }
     let covered = p.coverage.iter().filter(|&&c| c > 0).count();
     println!(
@@ -184,6 +209,10 @@ fn report(o: &FitOutcome, loaded: f64, total: f64) -> serde_json::Value {
             "counts_longitude_major": p.coverage.as_slice(),
         },
         "damping": o.model.damping().as_slice(),
+        "spin_coupling": o.model.spin_coupling().map(|k| json!({
+            "tensor_k_ijk": k.k,
+            "magnus_scale": super::info::magnus_scale(&k.k),
+        })),
         "timings": { "load_s": loaded, "total_s": total },
     })
 }

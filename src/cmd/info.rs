@@ -88,7 +88,11 @@ fn summary(m: &Coefficients<f64>) -> serde_json::Value {
             "torque_residuals": p.torque_residuals.as_slice(),
             "coverage": coverage_summary(m),
         },
-        "extensions": m.extensions.iter().map(|e| json!({"kind": e.kind, "version": e.version, "bytes": e.data.len()})).collect::<Vec<_>>(),
+        "extensions": m.extensions().iter().map(|e| json!({"kind": e.kind, "version": e.version, "bytes": e.data.len()})).collect::<Vec<_>>(),
+        "spin_coupling": m.spin_coupling().map(|s| json!({
+            "tensor_k_ijk": s.k,
+            "magnus_scale": magnus_scale(&s.k),
+        })),
     })
 }
 
@@ -139,5 +143,24 @@ fn print_text(m: &Coefficients<f64>, s: &serde_json::Value) {
         ),
         None => println!("coverage:          (not recorded)"),
     }
-    println!("extensions:        {}", m.extensions.len());
+    println!("extensions:        {}", m.extensions().len());
+    if let Some(s) = m.spin_coupling() {
+        let norm = s.k.iter().flatten().map(|x| x * x).sum::<f64>().sqrt();
+        println!(
+            "spin coupling:     |K| {norm:.4}, Magnus part {:.4} (F = ½ρL³ K:(Ω⊗V))",
+            magnus_scale(&s.k)
+        );
+    }
+}
+
+/// The Magnus part of a spin-coupling tensor: the `c` of `c ε_ijk` closest
+/// to K (its projection on the Levi-Civita tensor, `Σ K_ijk ε_ijk / 6`).
+pub fn magnus_scale(k: &[[f64; 9]; 3]) -> f64 {
+    let e = omniad_core::spin_coupling::SpinCoupling::<f64>::magnus(1.0);
+    k.iter()
+        .flatten()
+        .zip(e.k.iter().flatten())
+        .map(|(a, b)| a * b)
+        .sum::<f64>()
+        / 6.0
 }

@@ -44,6 +44,6 @@ pub fn golden_model() -> Coefficients<f64> {
     for b in [1u8, 2, 3, 250] {
         ext.data.push(b).expect("fits");
     }
-    m.extensions.push(ext).expect("fits");
+    m.add_extension(ext).expect("fits");
     m
 }

@@ -1,0 +1,85 @@
+use nalgebra::{DMatrix, DVector};
+use omniad_acquire::forces::ForceStats;
+use omniad_acquire::model::zero_model;
+use omniad_acquire::pipeline::{self, FitConfig};
+use omniad_acquire::recording::RecordingSet;
+use omniad_acquire::residuals::frame_residuals;
+use omniad_acquire::truth::true_trajectories;
+use std::path::Path;
+
+fn main() -> Result<(), Box<dyn std::error::Error>> {
+    let args: Vec<String> = std::env::args().collect();
+    let dir = Path::new(&args[1]);
+    let set = RecordingSet::load(dir)?;
+    let smoothed = true_trajectories(dir, &set)?;
+    let mut cfg = FitConfig::default();
+    cfg.lsq.spin_coupling = false;
+    let mut stats = ForceStats::default();
+    let frames = pipeline::samples(&set, &smoothed, &mut stats);
+    let base = zero_model(&set.object, cfg.degree)?;
+    let model = pipeline::fit_samples(&base, &frames, &set, &cfg)?;
+    let res = frame_residuals(&model, &frames, set.world.air_density);
+    let used: Vec<usize> = (0..frames.len()).filter(|&i| frames[i].use_force).collect();
+    // force residual regress on w_j v_k (9) per output
+    for (name, torque, set) in [
+        ("force bil", false, 0),
+        ("force bil+ww", false, 1),
+        ("force bil+v", false, 2),
+        ("force bil+|w|v", false, 3),
+        ("force bil+all", false, 4),
+    ] {
+        let n = used.len();
+        let nf = [9, 15, 12, 12, 21][set];
+        let mut a = DMatrix::<f64>::zeros(3 * n, 3 * nf);
+        let mut b = DVector::<f64>::zeros(3 * n);
+        let mut tot_f = 0.0;
+        let mut tot_ref = 0.0;
+        for (r, &i) in used.iter().enumerate() {
+            let s = &frames[i];
+            let w = s.angular_velocity;
+            let v = s.velocity;
+            let mut feat = vec![];
+            for j in 0..3 {
+                for k in 0..3 {
+                    feat.push(w[j] * v[k]);
+                }
+            }
+            if set == 1 || set == 4 {
+                for j in 0..3 {
+                    for k in j..3 {
+                        feat.push(w[j] * w[k]);
+                    }
+                }
+            }
+            if set == 2 || set == 4 {
+                for j in 0..3 {
+                    feat.push(v[j]);
+                }
+            }
+            if set == 3 || set == 4 {
+                for j in 0..3 {
+                    feat.push(w.norm() * v[j]);
+                }
+            }
+            let rr = if torque { res[i].torque } else { res[i].force };
+            let reff = if torque { s.torque } else { s.force };
+            for c in 0..3 {
+                for (f, x) in feat.iter().enumerate() {
+                    a[(3 * r + c, c * nf + f)] = *x;
+                }
+                b[3 * r + c] = rr[c];
+            }
+            tot_f += rr.norm_squared();
+            tot_ref += reff.norm_squared();
+        }
+        let sol = a.clone().svd(true, true).solve(&b, 1e-12)?;
+        let after = (&b - &a * &sol).norm_squared();
+        println!(
+            "{name}: measured RMS {:.4}, OmniAD residual RMS {:.4}, after bilinear {:.4}",
+            (tot_ref / n as f64).sqrt(),
+            (tot_f / n as f64).sqrt(),
+            (after / n as f64).sqrt()
+        );
+    }
+    Ok(())
+}
