@@ -1,3 +1,10 @@
+//! Residual analysis from the TRUE states of a set: fit the paper's model
+//! (no extension) to the forces of `truth/`, then regress the per-frame
+//! force residual on candidate terms the model lacks, body frame: `Ω⊗V`
+//! (bilinear: Magnus, added-mass coupling), plus `Ω⊗Ω`, `V`, or `|Ω|V`.
+//! Prints the RMS residual (N) before and after each:
+//! `cargo run --release -p omniad-acquire --example missing_terms -- SET`.
+
 use nalgebra::{DMatrix, DVector};
 use omniad_acquire::forces::ForceStats;
 use omniad_acquire::model::zero_model;
@@ -9,7 +16,7 @@ use std::path::Path;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<String> = std::env::args().collect();
-    let dir = Path::new(&args[1]);
+    let dir = Path::new(args.get(1).ok_or("usage: missing_terms SET")?);
     let set = RecordingSet::load(dir)?;
     let smoothed = true_trajectories(dir, &set)?;
     let mut cfg = FitConfig::default();
