@@ -67,6 +67,8 @@ pub struct RawModel {
     pub damping: [f64; 6],
     /// The spin-coupling extension, when fitted and kept.
     pub spin_coupling: Option<SpinCoupling<f64>>,
+    /// The held-out test that decided on it (when it was run).
+    pub coupling_test: Option<crate::fit_spin::CouplingTest>,
 }
 
 /// Object constants the fit needs.
@@ -417,13 +419,15 @@ fn accumulate(ata: &mut DMatrix<f64>, atb: &mut DVector<f64>, n: usize, r: &Torq
 
 /// The full least-squares fit.
 pub fn fit(samples: &[Sample], ctx: &FitContext, cfg: &LsqConfig) -> RawModel {
-    let (alpha, spin_coupling) = crate::fit_spin::fit_force_and_coupling(samples, ctx, cfg);
+    let (alpha, spin_coupling, coupling_test) =
+        crate::fit_spin::fit_force_and_coupling(samples, ctx, cfg);
     let (beta, damping) = fit_torque(samples, ctx, cfg);
     RawModel {
         alpha,
         beta,
         damping,
         spin_coupling,
+        coupling_test,
     }
 }
 

@@ -149,6 +149,7 @@ pub fn fit(samples: &[Sample], ctx: &FitContext, degree: usize) -> RawModel {
         beta: convolve(&torque, ctx, degree),
         damping,
         spin_coupling: None,
+        coupling_test: None,
     }
 }
 

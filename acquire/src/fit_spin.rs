@@ -42,6 +42,7 @@ struct TakeNormals {
     xtx: M9,
     xtr: M93,
     rtr: f64,
+    frames: usize,
 }
 
 impl TakeNormals {
@@ -50,6 +51,7 @@ impl TakeNormals {
             xtx: M9::zeros(),
             xtr: M93::zeros(),
             rtr: 0.0,
+            frames: 0,
         }
     }
 }
@@ -86,6 +88,7 @@ fn normals(
             n.xtx += x * x.transpose();
             n.xtr += x * r.transpose();
             n.rtr += r.norm_squared();
+            n.frames += 1;
         }
     }
     takes.into_iter().map(|(_, n)| n).collect()
@@ -103,6 +106,25 @@ fn held_out_error(h: &TakeNormals, k: &M93) -> f64 {
     h.rtr - 2.0 * k.component_mul(&h.xtr).sum() + (k.transpose() * h.xtx * k).trace()
 }
 
+/// The cross-validated test of the spin coupling on one fit's frames: the
+/// residual analysis of the model loop, on held-out data.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CouplingTest {
+    /// K fitted to the residuals when kept, else `None`.
+    pub coupling: Option<SpinCoupling<f64>>,
+    /// RMS force residual of the model without the coupling, N (over all
+    /// frames of the test; the term held out is K, so this is alpha's
+    /// residual).
+    pub held_out_rms_without: f64,
+    /// RMS force residual on each take with K fitted to the other takes, N
+    /// (best ridge weight).
+    pub held_out_rms_with: f64,
+    /// Frames in the test.
+    pub frames: usize,
+    /// Takes in the test.
+    pub takes: usize,
+}
+
 /// Fits K to `residual(s) = F*(s) - F_model(s)` over the samples; `None`
 /// when cross-validation does not keep it (see the module docs).
 pub fn fit(
@@ -110,6 +132,17 @@ pub fn fit(
     ctx: &FitContext,
     residual: &dyn Fn(&Sample) -> Vector3<f64>,
 ) -> Option<SpinCoupling<f64>> {
+    test(samples, ctx, residual).and_then(|t| t.coupling)
+}
+
+/// Leave-one-take-out test of the coupling on `residual(s) = F*(s) -
+/// F_model(s)`: `None` when it cannot be run (fewer than [`MIN_TAKES`]
+/// takes, no spin in the frames).
+pub fn test(
+    samples: &[Sample],
+    ctx: &FitContext,
+    residual: &dyn Fn(&Sample) -> Vector3<f64>,
+) -> Option<CouplingTest> {
     let takes = normals(samples, ctx, residual);
     if takes.len() < MIN_TAKES {
         return None;
@@ -119,6 +152,7 @@ pub fn fit(
         total.xtx += t.xtx;
         total.xtr += t.xtr;
         total.rtr += t.rtr;
+        total.frames += t.frames;
     }
     let scale = total.xtx.trace() / 9.0;
     if scale.is_nan() || scale <= 0.0 || !scale.is_finite() {
@@ -137,12 +171,21 @@ pub fn fit(
         }
     }
     let (score, ridge) = best?;
+    let rms = |sum: f64| (sum.max(0.0) / total.frames.max(1) as f64).sqrt();
     // NaN scores keep no coupling.
-    if score.is_nan() || score >= (1.0 - MIN_GAIN) * baseline {
-        return None;
-    }
-    let k = ridge_solve(&total.xtx, &total.xtr, ridge)?;
-    Some(coupling_of(&k))
+    let keep = !score.is_nan() && score < (1.0 - MIN_GAIN) * baseline;
+    let coupling = if keep {
+        ridge_solve(&total.xtx, &total.xtr, ridge).map(|k| coupling_of(&k))
+    } else {
+        None
+    };
+    Some(CouplingTest {
+        coupling,
+        held_out_rms_without: rms(baseline),
+        held_out_rms_with: rms(score),
+        frames: total.frames,
+        takes: takes.len(),
+    })
 }
 
 /// The tensor of a solution whose row `3j + k`, column `i` multiplies
@@ -164,15 +207,20 @@ pub(crate) fn fit_force_and_coupling(
     samples: &[Sample],
     ctx: &FitContext,
     cfg: &LsqConfig,
-) -> ([Vec<f64>; 3], Option<SpinCoupling<f64>>) {
+) -> (
+    [Vec<f64>; 3],
+    Option<SpinCoupling<f64>>,
+    Option<CouplingTest>,
+) {
     let plain = fit_force(samples, ctx, cfg);
     if !cfg.spin_coupling {
-        return (plain, None);
+        return (plain, None, None);
     }
     let a = plain.clone();
     let residual = move |s: &Sample| s.force - alpha_force(&a, s, ctx, cfg.degree);
-    if fit(samples, ctx, &residual).is_none() {
-        return (plain, None);
+    let tested = test(samples, ctx, &residual);
+    if tested.is_none_or(|t| t.coupling.is_none()) {
+        return (plain, None, tested);
     }
     let smoothing = force_smoothing(samples, ctx, cfg);
     let frames = force_frames(samples);
@@ -185,12 +233,12 @@ pub(crate) fn fit_force_and_coupling(
     let alpha = std::array::from_fn(|i| x.get(i * n..(i + 1) * n).unwrap_or(&[]).to_vec());
     let k = x.get(3 * n..3 * n + 27).unwrap_or(&[]);
     if k.len() != 27 || !k.iter().all(|v| v.is_finite()) {
-        return (plain, None);
+        return (plain, None, tested);
     }
     let coupling = SpinCoupling {
         k: std::array::from_fn(|i| std::array::from_fn(|jk| k[9 * i + jk])),
     };
-    (alpha, Some(coupling))
+    (alpha, Some(coupling), tested)
 }
 
 /// The force fit's normal equations in alpha (`3n` unknowns, already

@@ -5,6 +5,7 @@ use crate::coverage;
 use crate::error::{Error, Result};
 use crate::filter::{Filter, FilterConfig, FilterStats, Smoothed};
 use crate::fit_lsq::{FitContext, LsqConfig};
+use crate::fit_spin::CouplingTest;
 use crate::forces::{self, ForceStats, Sample};
 use crate::model::{with_raw, zero_model};
 use crate::process::Process;
@@ -112,6 +113,9 @@ pub struct IterationReport {
     pub seconds: f64,
     /// The iteration's model was worse than the best and was not kept.
     pub rejected: bool,
+    /// The held-out test of the spin-coupling extension (least squares
+    /// with the extension allowed).
+    pub coupling_test: Option<CouplingTest>,
 }
 
 /// An iteration is rejected (see [`fit`]) when its force or torque residual
@@ -306,6 +310,16 @@ pub fn fit_samples(
     set: &RecordingSet,
     cfg: &FitConfig,
 ) -> Result<Coefficients<f64>> {
+    fit_samples_tested(base, samples, set, cfg).map(|(m, _)| m)
+}
+
+/// [`fit_samples`], with the held-out test of the spin coupling.
+pub fn fit_samples_tested(
+    base: &Coefficients<f64>,
+    samples: &[Sample],
+    set: &RecordingSet,
+    cfg: &FitConfig,
+) -> Result<(Coefficients<f64>, Option<CouplingTest>)> {
     let ctx = FitContext {
         air_density: set.world.air_density,
         reference_length: set.object.reference_length,
@@ -323,7 +337,7 @@ pub fn fit_samples(
         ),
         Method::Paper => crate::fit_paper::fit(samples, &ctx, degree),
     };
-    with_raw(base, &raw)
+    Ok((with_raw(base, &raw)?, raw.coupling_test))
 }
 
 /// The next iteration's process noise: with a fitted model the unexplained
@@ -383,10 +397,10 @@ pub fn fit(set: &RecordingSet, cfg: &FitConfig, progress: &dyn Progress) -> Resu
         progress.stage(&format!("iteration {}/{}: fit", it + 1, cfg.iterations), 1);
         // A later iteration whose reconstruction diverged can give a
         // non-finite fit: it is rejected like a worse one (below).
-        let fitted = match fit_samples(&base, &frames, set, cfg) {
-            Ok(m) => Some(m),
+        let (fitted, coupling_test) = match fit_samples_tested(&base, &frames, set, cfg) {
+            Ok((m, t)) => (Some(m), t),
             Err(e) if iterations.is_empty() => return Err(e),
-            Err(_) => None,
+            Err(_) => (None, None),
         };
         progress.tick();
         let nan = (f64::NAN, f64::NAN);
@@ -401,6 +415,7 @@ pub fn fit(set: &RecordingSet, cfg: &FitConfig, progress: &dyn Progress) -> Resu
             residual_dimensional: res.as_deref().map_or(nan, rms_dimensional),
             seconds: start.elapsed().as_secs_f64(),
             rejected: false,
+            coupling_test,
         };
         // Refinement must not make things worse: a model whose filter run
         // fits clearly worse than the best so far is rejected and the

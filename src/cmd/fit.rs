@@ -156,9 +156,20 @@ fn summary(o: &FitOutcome, a: &FitArgs, total: f64) {
             r.seconds
         );
     }
+    let test = o
+        .iterations
+        .iter()
+        .rfind(|r| !r.rejected)
+        .and_then(|r| r.coupling_test);
+    if let Some(t) = test {
+        println!(
+            "spin-coupling test, leave one take out ({} takes, {} frames): force RMS {:.4} N without, {:.4} N with",
+            t.takes, t.frames, t.held_out_rms_without, t.held_out_rms_with
+        );
+    }
     match o.model.spin_coupling() {
         Some(k) => println!(
-            "spin coupling kept (cross-validated): Magnus part {:.4}, |K| {:.4}",
+            "spin coupling kept: Magnus part {:.4}, |K| {:.4}",
             super::info::magnus_scale(&k.k),
             k.k.iter().flatten().map(|x| x * x).sum::<f64>().sqrt()
         ),
@@ -186,6 +197,12 @@ fn report(o: &FitOutcome, loaded: f64, total: f64) -> serde_json::Value {
                 "empty_frames": r.filter.empty_frames, "filter_restarts": r.filter.restarts,
                 "mirror_switches": r.filter.mirror_switches,
                 "rejected": r.rejected, "seconds": r.seconds,
+                "spin_coupling_test": r.coupling_test.map(|t| json!({
+                    "kept": t.coupling.is_some(),
+                    "held_out_force_rms_without_n": t.held_out_rms_without,
+                    "held_out_force_rms_with_n": t.held_out_rms_with,
+                    "frames": t.frames, "takes": t.takes,
+                })),
             })
         })
         .collect();
