@@ -115,3 +115,24 @@ fn format_errors_name_file_and_place() {
     let e = error_of(tmp.path());
     assert!(e.contains("drop-02.csv:4") && e.contains("nosuch"), "{e}");
 }
+
+/// Physics far outside the model (a Magnus force many times the plate's
+/// weight) makes the first reconstruction diverge: `fit` says so, naming
+/// the restarts and a take, instead of writing a meaningless model.
+#[test]
+fn a_diverged_first_reconstruction_is_an_error_not_a_model() {
+    let tmp = tempfile::tempdir().expect("tempdir");
+    let cfg = SynthConfig {
+        object: SynthObject::Plate,
+        seed: 3,
+        effects: vec![omniad_acquire::synth::Effect::parse("magnus=1.0").expect("effect")],
+        ..SynthConfig::default()
+    };
+    generate(tmp.path(), &cfg).expect("synth");
+    let set = RecordingSet::load(tmp.path()).expect("load");
+    let err = pipeline::fit(&set, &FitConfig::default(), &Silent)
+        .expect_err("must not produce a model")
+        .to_string();
+    assert!(err.contains("diverged in the first iteration"), "{err}");
+    assert!(err.contains("restarts"), "{err}");
+}

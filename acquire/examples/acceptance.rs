@@ -3,7 +3,8 @@
 //! [iterations]`. Environment knobs (diagnostics only): `FLOOR` (noise
 //! floor), `MIRROR_WINDOW`, `XR` (a fixed smoothing weight instead of the
 //! cross-validated one), `RELIN` (`filter.relinearise`),
-//! `RELIN_ITS` (`relinearised_iterations`).
+//! `RELIN_ITS` (`relinearised_iterations`), `SPIN_COUPLING=off` (no
+//! spin-coupling extension).
 
 use omniad_acquire::pipeline::{self, FitConfig, Method, Silent};
 use omniad_acquire::recording::RecordingSet;
@@ -46,6 +47,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     if let Some(r) = std::env::var("XR").ok().and_then(|s| s.parse().ok()) {
         cfg.lsq.smoothing = r;
         cfg.lsq.cross_validate = false;
+    }
+    if std::env::var("SPIN_COUPLING").is_ok_and(|v| v == "off") {
+        cfg.lsq.spin_coupling = false;
     }
     if let Some(r) = std::env::var("RELIN").ok().and_then(|s| s.parse().ok()) {
         cfg.filter.relinearise = r;

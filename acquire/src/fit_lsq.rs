@@ -258,7 +258,16 @@ pub fn force_smoothing(samples: &[Sample], ctx: &FitContext, cfg: &LsqConfig) ->
 
 /// Fits alpha (force), enforcing no thrust.
 pub fn fit_force(samples: &[Sample], ctx: &FitContext, cfg: &LsqConfig) -> [Vec<f64>; 3] {
-    let smoothing = force_smoothing(samples, ctx, cfg);
+    fit_force_smoothed(samples, ctx, cfg, force_smoothing(samples, ctx, cfg))
+}
+
+/// [`fit_force`] with a given smoothing weight.
+pub(crate) fn fit_force_smoothed(
+    samples: &[Sample],
+    ctx: &FitContext,
+    cfg: &LsqConfig,
+    smoothing: f64,
+) -> [Vec<f64>; 3] {
     let (_, Normals { mut ata, atb, .. }) = force_normals(samples, ctx, cfg.degree);
     regularise(&mut ata, 3, cfg.degree, smoothing);
     let x = enforce_no_thrust(ata, atb, cfg);

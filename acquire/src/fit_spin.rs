@@ -13,8 +13,8 @@
 
 use crate::fit_cv::Normals;
 use crate::fit_lsq::{
-    enforce_no_thrust, fit_force, force_frames, force_smoothing, force_weights, normals_with,
-    regularise, sh_and_basis, FitContext, LsqConfig,
+    enforce_no_thrust, fit_force_smoothed, force_frames, force_smoothing, force_weights,
+    normals_with, regularise, sh_and_basis, FitContext, LsqConfig,
 };
 use crate::forces::Sample;
 use nalgebra::{DMatrix, DVector, Matrix3, SMatrix, Vector3};
@@ -212,7 +212,8 @@ pub(crate) fn fit_force_and_coupling(
     Option<SpinCoupling<f64>>,
     Option<CouplingTest>,
 ) {
-    let plain = fit_force(samples, ctx, cfg);
+    let smoothing = force_smoothing(samples, ctx, cfg);
+    let plain = fit_force_smoothed(samples, ctx, cfg, smoothing);
     if !cfg.spin_coupling {
         return (plain, None, None);
     }
@@ -222,7 +223,6 @@ pub(crate) fn fit_force_and_coupling(
     if tested.is_none_or(|t| t.coupling.is_none()) {
         return (plain, None, tested);
     }
-    let smoothing = force_smoothing(samples, ctx, cfg);
     let frames = force_frames(samples);
     let weights = force_weights(&frames);
     let (_, Normals { mut ata, atb, .. }) = normals_with(&frames, &weights, ctx, cfg.degree);

@@ -417,6 +417,11 @@ pub fn fit(set: &RecordingSet, cfg: &FitConfig, progress: &dyn Progress) -> Resu
             rejected: false,
             coupling_test,
         };
+        if iterations.is_empty() {
+            if let Some(why) = diverged(&report, set, &smoothed) {
+                return Err(Error::Data(why));
+            }
+        }
         // Refinement must not make things worse: a model whose filter run
         // fits clearly worse than the best so far is rejected and the
         // refinement stops (the filter went astray with it).
@@ -445,6 +450,40 @@ pub fn fit(set: &RecordingSet, cfg: &FitConfig, progress: &dyn Progress) -> Resu
         reconstruction,
         samples,
     })
+}
+
+/// Largest non-dimensional residual of a usable first iteration: 100
+/// times eq. (5)-(6)'s dynamic-pressure scale is no reconstruction.
+pub const DIVERGED_RESIDUAL: f64 = 100.0;
+
+/// Why the first iteration's reconstruction is unusable (there is no
+/// earlier model to fall back to), naming the take the filter restarted
+/// most in; `None` when it is usable.
+fn diverged(report: &IterationReport, set: &RecordingSet, smoothed: &[Smoothed]) -> Option<String> {
+    let (f, t) = report.residual;
+    let bad = |r: f64| !r.is_finite() || r > DIVERGED_RESIDUAL;
+    if !bad(f) && !bad(t) {
+        return None;
+    }
+    let worst = set
+        .takes
+        .iter()
+        .zip(smoothed)
+        .max_by_key(|(_, s)| s.stats.restarts)
+        .map(|(take, s)| {
+            format!(
+                "; most restarts in take {} ({})",
+                take.name, s.stats.restarts
+            )
+        })
+        .unwrap_or_default();
+    Some(format!(
+        "the reconstruction diverged in the first iteration: residual force {f:.3e}, torque \
+         {t:.3e} (non-dimensional, limit {DIVERGED_RESIDUAL}), {} filter restarts{worst}. \
+         Check the camera calibration, marker positions and pixel noise in recording.toml; \
+         forces many times the object's weight (e.g. a strong synthetic effect) also do this",
+        report.filter.restarts
+    ))
 }
 
 fn total_stats(smoothed: &[Smoothed]) -> FilterStats {
