@@ -19,7 +19,7 @@ use crate::fit_lsq::{
 use crate::forces::Sample;
 use nalgebra::{DMatrix, DVector, Matrix3, SMatrix, Vector3};
 use omniad_core::sh::coeff_count;
-use omniad_core::spin_coupling::SpinCoupling;
+use omniad_core::spin_coupling::{SpinCoupling, TERMS};
 use std::ops::AddAssign;
 
 /// Ridge weights tried, relative to the mean diagonal of the normal matrix.
@@ -231,8 +231,8 @@ pub(crate) fn fit_force_and_coupling(
     let x = enforce_no_thrust(ata, atb, cfg);
     let n = coeff_count(cfg.degree);
     let alpha = std::array::from_fn(|i| x.get(i * n..(i + 1) * n).unwrap_or(&[]).to_vec());
-    let k = x.get(3 * n..3 * n + 27).unwrap_or(&[]);
-    if k.len() != 27 || !k.iter().all(|v| v.is_finite()) {
+    let k = x.get(3 * n..3 * n + TERMS).unwrap_or(&[]);
+    if k.len() != TERMS || !k.iter().all(|v| v.is_finite()) {
         return (plain, None, tested);
     }
     let coupling = SpinCoupling {
@@ -256,7 +256,7 @@ fn with_coupling(
     degree: usize,
 ) -> (DMatrix<f64>, DVector<f64>) {
     let n = coeff_count(degree);
-    let dim = 3 * n + 27;
+    let dim = 3 * n + TERMS;
     let mut big = DMatrix::<f64>::zeros(dim, dim);
     big.view_mut((0, 0), (3 * n, 3 * n)).copy_from(&ata);
     let mut rhs = DVector::<f64>::zeros(dim);
@@ -270,20 +270,21 @@ fn with_coupling(
         let wb = b.transpose() * w * b;
         let x = regressor(s, ctx);
         // BᵀX: row i (basis component), column 9c + jk = B[c][i] x_jk.
-        let btx = nalgebra::SMatrix::<f64, 3, 27>::from_fn(|i, col| b[(col / 9, i)] * x[col % 9]);
+        let btx =
+            nalgebra::SMatrix::<f64, 3, TERMS>::from_fn(|i, col| b[(col / 9, i)] * x[col % 9]);
         let wbtx = wb * btx;
         let target = b.transpose() * s.force;
         for i in 0..3 {
             let row = wbtx.row(i);
             for (p, ap) in a.iter().enumerate() {
-                for q in 0..27 {
+                for q in 0..TERMS {
                     big[(i * n + p, 3 * n + q)] += ap * row[q];
                 }
             }
         }
-        big.view_mut((3 * n, 3 * n), (27, 27))
+        big.view_mut((3 * n, 3 * n), (TERMS, TERMS))
             .add_assign(&(btx.transpose() * wbtx));
-        rhs.rows_mut(3 * n, 27)
+        rhs.rows_mut(3 * n, TERMS)
             .add_assign(&(wbtx.transpose() * target));
     }
     for p in 0..3 * n {
@@ -291,7 +292,7 @@ fn with_coupling(
             big[(q, p)] = big[(p, q)];
         }
     }
-    let mean = (3 * n..dim).map(|i| big[(i, i)]).sum::<f64>() / 27.0;
+    let mean = (3 * n..dim).map(|i| big[(i, i)]).sum::<f64>() / TERMS as f64;
     for i in 3 * n..dim {
         big[(i, i)] += COUPLING_RIDGE * mean.max(1e-300);
     }
