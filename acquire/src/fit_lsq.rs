@@ -193,6 +193,35 @@ fn force_normals(samples: &[Sample], ctx: &FitContext, degree: usize) -> (Vec<No
     normals_with(&frames, &weights, ctx, degree)
 }
 
+/// One frame of the force fit in the basis `B = [E¹ E² E³]` at its
+/// direction (eqs. 5, 7): `a = ½ρ|V|²L² Y(E)`, so the model's force is
+/// `B (a·α¹, a·α², a·α³)ᵀ`; the weight `BᵀWB`; the target `BᵀF*`.
+pub(crate) struct ForceRow {
+    /// `½ρ|V|²L² Y(E)`, one entry per SH coefficient.
+    pub a: DVector<f64>,
+    /// `B`, the basis vectors as columns.
+    pub basis: Matrix3<f64>,
+    /// `BᵀWB`.
+    pub weight: Matrix3<f64>,
+    /// `BᵀF*`, N.
+    pub target: Vector3<f64>,
+}
+
+/// [`ForceRow`] of a frame with a non-zero velocity and weight `w`.
+pub(crate) fn force_row(s: &Sample, w: &Matrix3<f64>, ctx: &FitContext, degree: usize) -> ForceRow {
+    let speed = s.velocity.norm();
+    let (y, basis) = sh_and_basis(degree, &(s.velocity / speed), &ctx.pole);
+    let l2 = ctx.reference_length.powi(2);
+    let b = Matrix3::from_columns(&basis);
+    ForceRow {
+        a: DVector::from_vec(y) * (0.5 * ctx.air_density * speed * speed * l2),
+        basis: b,
+        weight: b.transpose() * w * b,
+        target: b.transpose() * s.force,
+    }
+}
+
+/// [`force_normals`] of given frames and weights.
 pub(crate) fn normals_with(
     frames: &[&Sample],
     weights: &[Matrix3<f64>],
@@ -200,15 +229,14 @@ pub(crate) fn normals_with(
     degree: usize,
 ) -> (Vec<Normals>, Normals) {
     let n = coeff_count(degree);
-    let l2 = ctx.reference_length.powi(2);
     let mut takes: Vec<(usize, Normals)> = Vec::new();
     for (s, w) in frames.iter().zip(weights) {
-        let speed = s.velocity.norm();
-        let (y, basis) = sh_and_basis(degree, &(s.velocity / speed), &ctx.pole);
-        let a = DVector::from_vec(y) * (0.5 * ctx.air_density * speed * speed * l2);
-        let b = Matrix3::from_columns(&basis);
-        let wb = b.transpose() * w * b;
-        let target = b.transpose() * s.force;
+        let ForceRow {
+            a,
+            weight: wb,
+            target,
+            ..
+        } = force_row(s, w, ctx, degree);
         let at = match takes.iter().position(|(t, _)| *t == s.take) {
             Some(i) => i,
             None => {

@@ -13,8 +13,8 @@
 
 use crate::fit_cv::Normals;
 use crate::fit_lsq::{
-    enforce_no_thrust, fit_force_smoothed, force_frames, force_smoothing, force_weights,
-    normals_with, regularise, sh_and_basis, FitContext, LsqConfig,
+    enforce_no_thrust, fit_force_smoothed, force_frames, force_row, force_smoothing, force_weights,
+    normals_with, regularise, sh_and_basis, FitContext, ForceRow, LsqConfig,
 };
 use crate::forces::Sample;
 use nalgebra::{DMatrix, DVector, Matrix3, SMatrix, Vector3};
@@ -261,19 +261,18 @@ fn with_coupling(
     big.view_mut((0, 0), (3 * n, 3 * n)).copy_from(&ata);
     let mut rhs = DVector::<f64>::zeros(dim);
     rhs.rows_mut(0, 3 * n).copy_from(&atb);
-    let l2 = ctx.reference_length.powi(2);
     for (s, w) in frames.iter().zip(weights) {
-        let speed = s.velocity.norm();
-        let (y, basis) = sh_and_basis(degree, &(s.velocity / speed), &ctx.pole);
-        let a = DVector::from_vec(y) * (0.5 * ctx.air_density * speed * speed * l2);
-        let b = Matrix3::from_columns(&basis);
-        let wb = b.transpose() * w * b;
+        let ForceRow {
+            a,
+            basis: b,
+            weight: wb,
+            target,
+        } = force_row(s, w, ctx, degree);
         let x = regressor(s, ctx);
         // BᵀX: row i (basis component), column 9c + jk = B[c][i] x_jk.
         let btx =
             nalgebra::SMatrix::<f64, 3, TERMS>::from_fn(|i, col| b[(col / 9, i)] * x[col % 9]);
         let wbtx = wb * btx;
-        let target = b.transpose() * s.force;
         for i in 0..3 {
             let row = wbtx.row(i);
             for (p, ap) in a.iter().enumerate() {
