@@ -62,6 +62,8 @@ fn synth_fit_reconstruct_round_trip() {
         .is_some_and(|r| r.is_finite() && r > 0.0)));
     assert!(report["coverage"]["cells_covered"].as_u64().expect("cells") > 50);
     assert!(report["frames"]["used"].as_u64().expect("used") > 500);
+    // The plain plate's air has no effect outside eqs. (5)-(6).
+    assert!(report["spin_coupling"].is_null() && report["gravity_coupling"].is_null());
 
     let bytes = std::fs::read(&model_path).expect("model file");
     let model = omniad_core::file::decode::<f64>(&bytes).expect("decodes");
@@ -162,7 +164,7 @@ fn fit_finds_a_magnus_force_and_fits_better_with_it() {
         set_s,
         "-o",
         without.to_str().expect("utf-8"),
-        "--spin-coupling",
+        "--extensions",
         "off",
         "--json",
     ]));
@@ -190,4 +192,42 @@ fn fit_finds_a_magnus_force_and_fits_better_with_it() {
         "--json",
     ]));
     assert!(plain["spin_coupling"].is_null());
+}
+
+/// The gravity-coupling extension end to end: a synthetic plate that also
+/// feels buoyancy (`--effect buoyancy=1.0`: `-ρ V g` with V its box volume
+/// 0.3 x 0.5 x 0.02 m = 3 litres, outside eqs. 5-6); the fit keeps a
+/// gravity coupling whose buoyancy-equivalent volume is that volume
+/// (measured 2.94 l), and none on the plain plate of the first test.
+#[test]
+fn fit_finds_buoyancy_as_a_gravity_coupling() {
+    let tmp = tempfile::tempdir().expect("tempdir");
+    let set = tmp.path().join("buoyant");
+    let set_s = set.to_str().expect("utf-8 path");
+    omniad(&[
+        "synth",
+        set_s,
+        "--object",
+        "plate",
+        "--effect",
+        "buoyancy=1.0",
+        "--seed",
+        "3",
+    ]);
+    let out = tmp.path().join("buoyant.omni");
+    let report = json(&omniad(&[
+        "fit",
+        set_s,
+        "-o",
+        out.to_str().expect("utf-8"),
+        "--json",
+    ]));
+    let volume = report["gravity_coupling"]["buoyancy_volume_m3"]
+        .as_f64()
+        .expect("gravity coupling kept");
+    assert!(
+        (volume - 3.0e-3).abs() < 0.3e-3,
+        "buoyancy-equivalent volume {volume} m^3 (synthesised 3.0e-3)"
+    );
+    assert!(report["spin_coupling"].is_null());
 }

@@ -3,8 +3,8 @@
 //! [iterations]`. Environment knobs (diagnostics only): `FLOOR` (noise
 //! floor), `MIRROR_WINDOW`, `XR` (a fixed smoothing weight instead of the
 //! cross-validated one), `RELIN` (`filter.relinearise`),
-//! `RELIN_ITS` (`relinearised_iterations`), `SPIN_COUPLING=off` (no
-//! spin-coupling extension).
+//! `RELIN_ITS` (`relinearised_iterations`), `EXTENSIONS=off` (the paper's
+//! model only).
 
 use omniad_acquire::pipeline::{self, FitConfig, Method, Silent};
 use omniad_acquire::recording::RecordingSet;
@@ -48,8 +48,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         cfg.lsq.smoothing = r;
         cfg.lsq.cross_validate = false;
     }
-    if std::env::var("SPIN_COUPLING").is_ok_and(|v| v == "off") {
-        cfg.lsq.spin_coupling = false;
+    if std::env::var("EXTENSIONS").is_ok_and(|v| v == "off") {
+        cfg.lsq.extensions = false;
     }
     if let Some(r) = std::env::var("RELIN").ok().and_then(|s| s.parse().ok()) {
         cfg.filter.relinearise = r;

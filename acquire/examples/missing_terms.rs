@@ -20,12 +20,13 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let set = RecordingSet::load(dir)?;
     let smoothed = true_trajectories(dir, &set)?;
     let mut cfg = FitConfig::default();
-    cfg.lsq.spin_coupling = false;
+    cfg.lsq.extensions = false;
     let mut stats = ForceStats::default();
     let frames = pipeline::samples(&set, &smoothed, &mut stats);
     let base = zero_model(&set.object, cfg.degree)?;
     let model = pipeline::fit_samples(&base, &frames, &set, &cfg)?;
     let res = frame_residuals(&model, &frames, set.world.air_density);
+    let set_ref = &set;
     let used: Vec<usize> = (0..frames.len()).filter(|&i| frames[i].use_force).collect();
     // force residual regress on w_j v_k (9) per output
     for (name, torque, set) in [
@@ -34,9 +35,13 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         ("force bil+v", false, 2),
         ("force bil+|w|v", false, 3),
         ("force bil+all", false, 4),
+        ("force bil+acc", false, 5),
+        ("force bil+acc+v", false, 6),
+        ("force bil+g_body", false, 7),
+        ("force g_body only", false, 8),
     ] {
         let n = used.len();
-        let nf = [9, 15, 12, 12, 21][set];
+        let nf = [9, 15, 12, 12, 21, 12, 15, 12, 3][set];
         let mut a = DMatrix::<f64>::zeros(3 * n, 3 * nf);
         let mut b = DVector::<f64>::zeros(3 * n);
         let mut tot_f = 0.0;
@@ -46,9 +51,18 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             let w = s.angular_velocity;
             let v = s.velocity;
             let mut feat = vec![];
-            for j in 0..3 {
-                for k in 0..3 {
-                    feat.push(w[j] * v[k]);
+            if set != 8 {
+                for j in 0..3 {
+                    for k in 0..3 {
+                        feat.push(w[j] * v[k]);
+                    }
+                }
+            }
+            if set == 7 || set == 8 {
+                let q = smoothed[s.take].states[s.index].orientation;
+                let g = q.inverse_transform_vector(&set_ref.world.gravity);
+                for j in 0..3 {
+                    feat.push(g[j]);
                 }
             }
             if set == 1 || set == 4 {
@@ -58,9 +72,18 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                     }
                 }
             }
-            if set == 2 || set == 4 {
+            if set == 2 || set == 4 || set == 6 {
                 for j in 0..3 {
                     feat.push(v[j]);
+                }
+            }
+            if set == 5 || set == 6 {
+                // Body-frame acceleration: F*/M + Rᵀg (eq. 9 solved for it).
+                let q = smoothed[s.take].states[s.index].orientation;
+                let acc = s.force / set_ref.object.mass
+                    + q.inverse_transform_vector(&set_ref.world.gravity);
+                for j in 0..3 {
+                    feat.push(acc[j]);
                 }
             }
             if set == 3 || set == 4 {

@@ -33,10 +33,10 @@ pub struct LsqConfig {
     /// Choose the force fit's smoothing weight by leave-one-take-out
     /// cross-validation (default true).
     pub cross_validate: bool,
-    /// Fit the spin-coupling extension (a force bilinear in Ω and V) and
-    /// keep it when cross-validation says it predicts held-out takes
-    /// better ([`crate::fit_spin`]; default true).
-    pub spin_coupling: bool,
+    /// Fit the model extensions (spin coupling, gravity coupling) and
+    /// keep those that predict held-out takes better
+    /// ([`crate::fit_extensions`]; default true).
+    pub extensions: bool,
     /// Smallest allowed eigenvalue of D relative to its largest (default 1e-3).
     pub damping_floor: f64,
     /// Required margin of `-C_F(E)·E` (default 1e-3).
@@ -49,7 +49,7 @@ impl Default for LsqConfig {
             degree: 8,
             smoothing: 1e-3,
             cross_validate: true,
-            spin_coupling: true,
+            extensions: true,
             damping_floor: 1e-3,
             thrust_margin: 1e-3,
         }
@@ -67,8 +67,10 @@ pub struct RawModel {
     pub damping: [f64; 6],
     /// The spin-coupling extension, when fitted and kept.
     pub spin_coupling: Option<SpinCoupling<f64>>,
-    /// The held-out test that decided on it (when it was run).
-    pub coupling_test: Option<crate::fit_spin::CouplingTest>,
+    /// The gravity-coupling extension, when fitted and kept.
+    pub gravity_coupling: Option<omniad_core::gravity_coupling::GravityCoupling<f64>>,
+    /// The held-out test that decided on them (when it was run).
+    pub extension_test: Option<crate::fit_extensions::ExtensionTest>,
 }
 
 /// Object constants the fit needs.
@@ -456,15 +458,15 @@ fn accumulate(ata: &mut DMatrix<f64>, atb: &mut DVector<f64>, n: usize, r: &Torq
 
 /// The full least-squares fit.
 pub fn fit(samples: &[Sample], ctx: &FitContext, cfg: &LsqConfig) -> RawModel {
-    let (alpha, spin_coupling, coupling_test) =
-        crate::fit_spin::fit_force_and_coupling(samples, ctx, cfg);
+    let force = crate::fit_extensions::fit_force_and_extensions(samples, ctx, cfg);
     let (beta, damping) = fit_torque(samples, ctx, cfg);
     RawModel {
-        alpha,
+        alpha: force.alpha,
         beta,
         damping,
-        spin_coupling,
-        coupling_test,
+        spin_coupling: force.spin,
+        gravity_coupling: force.gravity,
+        extension_test: force.test,
     }
 }
 
@@ -474,6 +476,7 @@ mod tests {
     use crate::recording::TakeKind;
     use crate::rng::Rng;
     use crate::synth::{truth_model, ObjectSpec, SynthObject};
+    use omniad_core::gravity_coupling::GravityCoupling;
 
     /// Exact samples of a known model at random directions and spins.
     pub(crate) fn samples(
@@ -496,6 +499,7 @@ mod tests {
                     angular_velocity,
                     force: w.force,
                     torque: w.torque,
+                    gravity_body: nalgebra::Vector3::new(0.0, 0.0, -9.81),
                     force_cov: nalgebra::Matrix3::zeros(),
                     use_force: true,
                     use_torque: true,
@@ -570,9 +574,38 @@ mod tests {
         let mut frames = samples(truth, 3000, TakeKind::Drop);
         for (i, s) in frames.iter_mut().enumerate() {
             s.take = i % 6;
+            s.gravity_body = rng.direction() * 9.81;
+            if let Some(g) = truth.gravity_coupling() {
+                s.force += g.force(&s.gravity_body, 1.2, truth.reference_length());
+            }
             s.force += rng.direction() * 1e-3;
         }
         frames
+    }
+
+    #[test]
+    fn gravity_coupling_is_found_when_present_and_only_then() {
+        let plain = truth_model(&ObjectSpec::of(SynthObject::Plate), 6).expect("model");
+        let ctx = FitContext {
+            air_density: 1.2,
+            reference_length: plain.reference_length(),
+            pole: plain.pole(),
+        };
+        let cfg = LsqConfig {
+            degree: 6,
+            ..LsqConfig::default()
+        };
+        assert_eq!(fit(&six_takes(&plain), &ctx, &cfg).gravity_coupling, None);
+        // Buoyancy of 2.4 litres.
+        let buoyant = GravityCoupling::buoyancy(2.4e-3, plain.reference_length());
+        let mut floated = plain.clone();
+        floated
+            .set_gravity_coupling(Some(buoyant))
+            .expect("coupling");
+        let raw = fit(&six_takes(&floated), &ctx, &cfg);
+        assert_eq!(raw.spin_coupling, None);
+        let g = raw.gravity_coupling.expect("gravity coupling kept");
+        assert!((g.g - buoyant.g).abs().max() < 1e-3, "G {}", g.g);
     }
 
     #[test]
@@ -604,7 +637,7 @@ mod tests {
             assert!((got - truth).abs() < 2e-3, "alpha1[{k}] {got} vs {truth}");
         }
         let off = LsqConfig {
-            spin_coupling: false,
+            extensions: false,
             ..cfg
         };
         assert_eq!(fit(&six_takes(&spun), &ctx, &off).spin_coupling, None);

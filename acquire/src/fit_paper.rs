@@ -149,7 +149,8 @@ pub fn fit(samples: &[Sample], ctx: &FitContext, degree: usize) -> RawModel {
         beta: convolve(&torque, ctx, degree),
         damping,
         spin_coupling: None,
-        coupling_test: None,
+        gravity_coupling: None,
+        extension_test: None,
     }
 }
 
@@ -192,6 +193,7 @@ mod tests {
                 angular_velocity,
                 force: w.force,
                 torque: w.torque,
+                gravity_body: nalgebra::Vector3::new(0.0, 0.0, -9.81),
                 force_cov: nalgebra::Matrix3::zeros(),
                 use_force: true,
                 use_torque: true,

@@ -24,6 +24,9 @@ pub struct Sample {
     pub force: Vector3<f64>,
     /// Aerodynamic torque T*, body frame, N m (eq. 10).
     pub torque: Vector3<f64>,
+    /// Gravity in the body frame, `Rᵀg`, m/s² (for the gravity-coupling
+    /// extension).
+    pub gravity_body: Vector3<f64>,
     /// Posterior covariance of `force` from the smoother, body frame, N²
     /// (zero: unknown; see [`Smoothed::velocity_difference_cov`]).
     pub force_cov: Matrix3<f64>,
@@ -114,6 +117,7 @@ pub fn reconstruct(
             angular_velocity: omega,
             force,
             torque,
+            gravity_body: cur.orientation.inverse_transform_vector(gravity),
             force_cov,
             use_force,
             use_torque,

@@ -54,5 +54,7 @@ pub fn with_raw(base: &Coefficients<f64>, raw: &RawModel) -> Result<Coefficients
         .map_err(model_error)?;
     m.set_spin_coupling(raw.spin_coupling)
         .map_err(model_error)?;
+    m.set_gravity_coupling(raw.gravity_coupling)
+        .map_err(model_error)?;
     Ok(m)
 }

@@ -4,8 +4,8 @@
 use crate::coverage;
 use crate::error::{Error, Result};
 use crate::filter::{Filter, FilterConfig, FilterStats, Smoothed};
+use crate::fit_extensions::ExtensionTest;
 use crate::fit_lsq::{FitContext, LsqConfig};
-use crate::fit_spin::CouplingTest;
 use crate::forces::{self, ForceStats, Sample};
 use crate::model::{with_raw, zero_model};
 use crate::process::Process;
@@ -113,9 +113,9 @@ pub struct IterationReport {
     pub seconds: f64,
     /// The iteration's model was worse than the best and was not kept.
     pub rejected: bool,
-    /// The held-out test of the spin-coupling extension (least squares
-    /// with the extension allowed).
-    pub coupling_test: Option<CouplingTest>,
+    /// The held-out test of the model extensions (least squares with
+    /// extensions allowed).
+    pub extension_test: Option<ExtensionTest>,
 }
 
 /// An iteration is rejected (see [`fit`]) when its force or torque residual
@@ -313,13 +313,13 @@ pub fn fit_samples(
     fit_samples_tested(base, samples, set, cfg).map(|(m, _)| m)
 }
 
-/// [`fit_samples`], with the held-out test of the spin coupling.
+/// [`fit_samples`], with the held-out test of the model extensions.
 pub fn fit_samples_tested(
     base: &Coefficients<f64>,
     samples: &[Sample],
     set: &RecordingSet,
     cfg: &FitConfig,
-) -> Result<(Coefficients<f64>, Option<CouplingTest>)> {
+) -> Result<(Coefficients<f64>, Option<ExtensionTest>)> {
     let ctx = FitContext {
         air_density: set.world.air_density,
         reference_length: set.object.reference_length,
@@ -337,7 +337,7 @@ pub fn fit_samples_tested(
         ),
         Method::Paper => crate::fit_paper::fit(samples, &ctx, degree),
     };
-    Ok((with_raw(base, &raw)?, raw.coupling_test))
+    Ok((with_raw(base, &raw)?, raw.extension_test))
 }
 
 /// The next iteration's process noise: with a fitted model the unexplained
@@ -397,7 +397,12 @@ pub fn fit(set: &RecordingSet, cfg: &FitConfig, progress: &dyn Progress) -> Resu
         progress.stage(&format!("iteration {}/{}: fit", it + 1, cfg.iterations), 1);
         // A later iteration whose reconstruction diverged can give a
         // non-finite fit: it is rejected like a worse one (below).
-        let (fitted, coupling_test) = match fit_samples_tested(&base, &frames, set, cfg) {
+        // Extensions refine a fitted model: the first iteration's forces
+        // come from a reconstruction with no model (§6, A_0 = 0), whose
+        // errors correlate with anything, so it fits the paper's model only.
+        let mut fit_cfg = cfg.clone();
+        fit_cfg.lsq.extensions &= it > 0;
+        let (fitted, extension_test) = match fit_samples_tested(&base, &frames, set, &fit_cfg) {
             Ok((m, t)) => (Some(m), t),
             Err(e) if iterations.is_empty() => return Err(e),
             Err(_) => (None, None),
@@ -415,7 +420,7 @@ pub fn fit(set: &RecordingSet, cfg: &FitConfig, progress: &dyn Progress) -> Resu
             residual_dimensional: res.as_deref().map_or(nan, rms_dimensional),
             seconds: start.elapsed().as_secs_f64(),
             rejected: false,
-            coupling_test,
+            extension_test,
         };
         if iterations.is_empty() {
             if let Some(why) = diverged(&report, set, &smoothed) {

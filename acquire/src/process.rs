@@ -44,10 +44,12 @@ struct Biased<'a> {
 
 impl Forces<f64> for Biased<'_> {
     fn wrench(&self, _t: f64, s: &State<f64>) -> Wrench<f64> {
-        let v = s.air_velocity_body(&self.environment.wind);
-        let w = self
-            .model
-            .wrench(&v, &s.angular_velocity, self.environment.air_density);
+        // The model's own wrench and extensions (gravity coupling included).
+        let w = omniad_core::rigid_body::AirForces {
+            model: self.model,
+            environment: self.environment,
+        }
+        .wrench(0.0, s);
         Wrench {
             force: w.force + self.force,
             torque: w.torque + self.torque,

@@ -42,7 +42,10 @@ pub fn frame_residuals(
     samples
         .iter()
         .map(|s| {
-            let w = model.wrench(&s.velocity, &s.angular_velocity, air_density);
+            let mut w = model.wrench(&s.velocity, &s.angular_velocity, air_density);
+            if let Some(g) = model.gravity_coupling() {
+                w.force += g.force(&s.gravity_body, air_density, l);
+            }
             let speed = s.velocity.norm();
             let q = 0.5 * air_density * speed * speed;
             FrameResidual {

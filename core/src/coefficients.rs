@@ -2,6 +2,7 @@
 //! D (eq. 6), the object's reference length L and pole Z, the rigid body it
 //! was measured on, provenance, and model extensions.
 
+use crate::gravity_coupling::GravityCoupling;
 use crate::lanes::SimdCoefficients;
 use crate::math::{is_positive_semidefinite, six_from_symmetric, symmetric_from_six, Real};
 use crate::sh::{self, MAX_COEFFS, MAX_DEGREE};
@@ -117,6 +118,9 @@ pub mod extension_kind {
     pub const BUOYANCY: u16 = 2;
     /// A force bilinear in Ω and V ([`crate::spin_coupling`]).
     pub const SPIN_COUPLING: u16 = 3;
+    /// A force linear in gravity seen from the body: buoyancy and added
+    /// mass ([`crate::gravity_coupling`]).
+    pub const GRAVITY_COUPLING: u16 = 4;
 }
 
 /// A model extension: a term outside eqs. (5)-(6), stored as a tagged,
@@ -159,6 +163,8 @@ pub struct Coefficients<T: Real> {
     /// The decoded spin-coupling extension, if any (kept equal to
     /// `extensions` by every method that changes them).
     spin_coupling: Option<SpinCoupling<T>>,
+    /// The decoded gravity-coupling extension, if any (as `spin_coupling`).
+    gravity_coupling: Option<GravityCoupling<T>>,
 }
 
 impl<T: Real> Coefficients<T> {
@@ -179,6 +185,7 @@ impl<T: Real> Coefficients<T> {
             provenance: Provenance::default(),
             extensions: heapless::Vec::new(),
             spin_coupling: None,
+            gravity_coupling: None,
         })
     }
 
@@ -210,6 +217,7 @@ impl<T: Real> Coefficients<T> {
         self.provenance.coverage.clear();
         self.extensions.clear();
         self.spin_coupling = None;
+        self.gravity_coupling = None;
         Ok(())
     }
 
@@ -291,7 +299,10 @@ impl<T: Real> Coefficients<T> {
     /// unknown kinds are kept as they are. Full: `CapacityExceeded`.
     pub fn add_extension(&mut self, e: Extension) -> Result<(), ModelError> {
         let spin = SpinCoupling::from_extension(&e)?;
-        if spin.is_some() && self.spin_coupling.is_some() {
+        let gravity = GravityCoupling::from_extension(&e)?;
+        if (spin.is_some() && self.spin_coupling.is_some())
+            || (gravity.is_some() && self.gravity_coupling.is_some())
+        {
             return Err(ModelError::DuplicateExtension(e.kind));
         }
         self.extensions
@@ -300,14 +311,39 @@ impl<T: Real> Coefficients<T> {
         if spin.is_some() {
             self.spin_coupling = spin;
         }
+        if gravity.is_some() {
+            self.gravity_coupling = gravity;
+        }
         Ok(())
     }
 
     /// Removes every extension of `kind`.
     pub fn remove_extensions(&mut self, kind: u16) {
         self.extensions.retain(|e| e.kind != kind);
-        if kind == crate::coefficients::extension_kind::SPIN_COUPLING {
-            self.spin_coupling = None;
+        match kind {
+            extension_kind::SPIN_COUPLING => self.spin_coupling = None,
+            extension_kind::GRAVITY_COUPLING => self.gravity_coupling = None,
+            _ => {}
+        }
+    }
+
+    /// The gravity-coupling matrix, if the model has one
+    /// ([`crate::gravity_coupling`]); [`crate::rigid_body::AirForces`] adds
+    /// its force.
+    pub fn gravity_coupling(&self) -> Option<&GravityCoupling<T>> {
+        self.gravity_coupling.as_ref()
+    }
+
+    /// Sets (or with `None` removes) the gravity-coupling extension.
+    pub fn set_gravity_coupling(
+        &mut self,
+        g: Option<GravityCoupling<T>>,
+    ) -> Result<(), ModelError> {
+        let ext = g.map(|g| g.to_extension()).transpose()?;
+        self.remove_extensions(extension_kind::GRAVITY_COUPLING);
+        match ext {
+            Some(e) => self.add_extension(e),
+            None => Ok(()),
         }
     }
 
@@ -438,6 +474,9 @@ impl<T: Real> Coefficients<T> {
             spin_coupling: self.spin_coupling.map(|s| SpinCoupling {
                 k: s.k.map(|row| row.map(c)),
             }),
+            gravity_coupling: self
+                .gravity_coupling
+                .map(|g| GravityCoupling { g: g.g.map(c) }),
         };
         for k in 0..self.coeff_count() {
             for set in 0..SETS {

@@ -12,6 +12,8 @@
 //! * [`rigid_body`], [`integrate`]: eqs. (1)-(2) and a pure fixed-step RK4 step.
 //! * [`spin_coupling`]: a model extension, the force bilinear in Ω and V
 //!   (Magnus, added-mass coupling).
+//! * [`gravity_coupling`]: a model extension, the force linear in gravity
+//!   seen from the body (buoyancy, added mass).
 //! * [`file`]: the `*.omni` coefficient file format.
 //!
 //! Every quantity is SI (m, kg, s, rad) unless a doc comment says otherwise.
@@ -37,10 +39,12 @@ pub mod basis;
 pub mod coefficients;
 pub mod crc32;
 pub mod file;
+pub mod gravity_coupling;
 pub mod integrate;
 pub mod kite;
 pub mod lanes;
 pub mod math;
+mod payload;
 pub mod quadrature;
 pub mod rigid_body;
 pub mod sh;

@@ -97,20 +97,12 @@ impl<T: Real> SpinCoupling<T> {
 
     /// The model extension holding this tensor (payload version 1).
     pub fn to_extension(&self) -> Result<Extension, ModelError> {
-        let mut data = heapless::Vec::new();
-        for x in self.k.iter().flatten() {
-            let value = x.as_f64();
-            if !value.is_finite() {
-                return Err(ModelError::NonFinite("spin_coupling"));
-            }
-            data.extend_from_slice(&(value as f32).to_le_bytes())
-                .map_err(|_| ModelError::CapacityExceeded("extension.data"))?;
-        }
-        Ok(Extension {
-            kind: extension_kind::SPIN_COUPLING,
-            version: PAYLOAD_VERSION,
-            data,
-        })
+        crate::payload::encode(
+            extension_kind::SPIN_COUPLING,
+            PAYLOAD_VERSION,
+            self.k.iter().flatten().copied(),
+            "spin_coupling",
+        )
     }
 
     /// The tensor of an extension: `Ok(None)` when the extension is of
@@ -118,23 +110,17 @@ impl<T: Real> SpinCoupling<T> {
     /// is then kept but not evaluated); an error when the payload is of
     /// the wrong size or holds a non-finite number.
     pub fn from_extension(e: &Extension) -> Result<Option<Self>, ModelError> {
-        if e.kind != extension_kind::SPIN_COUPLING || e.version != PAYLOAD_VERSION {
-            return Ok(None);
-        }
-        if e.data.len() != PAYLOAD_BYTES {
-            return Err(ModelError::OutOfRange("spin_coupling payload"));
-        }
-        let mut k = [[T::zero(); 9]; 3];
-        for (x, bytes) in k.iter_mut().flatten().zip(e.data.chunks_exact(4)) {
-            let v = match bytes {
-                [a, b, c, d] => f32::from_le_bytes([*a, *b, *c, *d]),
-                _ => return Err(ModelError::OutOfRange("spin_coupling payload")),
-            };
-            if !v.is_finite() {
-                return Err(ModelError::NonFinite("spin_coupling"));
-            }
-            *x = T::of_f64(f64::from(v));
-        }
-        Ok(Some(Self { k }))
+        let values: Option<[T; TERMS]> = crate::payload::decode(
+            e,
+            extension_kind::SPIN_COUPLING,
+            PAYLOAD_VERSION,
+            "spin_coupling",
+            "spin_coupling payload",
+        )?;
+        Ok(values.map(|v| Self {
+            k: core::array::from_fn(|i| {
+                core::array::from_fn(|jk| v.get(9 * i + jk).copied().unwrap_or_else(T::zero))
+            }),
+        }))
     }
 }

@@ -36,24 +36,25 @@ pub struct FitArgs {
     /// Refinement iterations (filter + fit rounds, §6).
     #[arg(long, default_value_t = 3)]
     pub iterations: usize,
-    /// Fit the spin-coupling extension (a force bilinear in Ω and V:
-    /// Magnus, added-mass coupling) and keep it when leave-one-take-out
-    /// cross-validation says it predicts held-out takes better (`auto`),
-    /// or never (`off`: the paper's model only). `--method paper` never
-    /// fits it.
-    #[arg(long, value_enum, default_value_t = SpinCouplingArg::Auto)]
-    pub spin_coupling: SpinCouplingArg,
+    /// Model extensions beyond eqs. (5)-(6): the spin coupling (a force
+    /// bilinear in Ω and V: Magnus, added-mass coupling) and the gravity
+    /// coupling (a force linear in gravity seen from the body: buoyancy,
+    /// added mass). `auto` keeps those that leave-one-take-out
+    /// cross-validation says predict held-out takes better; `off` fits the
+    /// paper's model only. `--method paper` never fits them.
+    #[arg(long, value_enum, default_value_t = ExtensionsArg::Auto)]
+    pub extensions: ExtensionsArg,
     /// Print a JSON report on stdout.
     #[arg(long)]
     pub json: bool,
 }
 
-/// Whether `omniad fit` may add the spin-coupling extension.
+/// Whether `omniad fit` may add model extensions.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
-pub enum SpinCouplingArg {
-    /// Fit it; keep it when cross-validation says so.
+pub enum ExtensionsArg {
+    /// Fit them; keep those cross-validation keeps.
     Auto,
-    /// Never fit it.
+    /// Never fit them.
     Off,
 }
 
@@ -116,7 +117,7 @@ pub fn run(a: &FitArgs) -> Result<()> {
         iterations: a.iterations,
         ..FitConfig::default()
     };
-    cfg.lsq.spin_coupling = a.spin_coupling == SpinCouplingArg::Auto;
+    cfg.lsq.extensions = a.extensions == ExtensionsArg::Auto;
     let outcome = {
         let bars = Bars::default();
         pipeline::fit(&set, &cfg, &bars).map_err(|e| anyhow::anyhow!("{e}"))?
@@ -160,12 +161,19 @@ fn summary(o: &FitOutcome, a: &FitArgs, total: f64) {
         .iterations
         .iter()
         .rfind(|r| !r.rejected)
-        .and_then(|r| r.coupling_test);
+        .and_then(|r| r.extension_test);
     if let Some(t) = test {
         println!(
-            "spin-coupling test, leave one take out ({} takes, {} frames): force RMS {:.4} N without, {:.4} N with",
-            t.takes, t.frames, t.held_out_rms_without, t.held_out_rms_with
+            "extensions, leave one take out ({} takes, {} frames): force RMS {:.4} N without, {:.4} N spin coupling, {:.4} N gravity coupling, {:.4} N both",
+            t.takes, t.frames, t.held_out_rms_without, t.held_out_rms_spin, t.held_out_rms_gravity, t.held_out_rms_both
         );
+    }
+    match o.model.gravity_coupling() {
+        Some(g) => println!(
+            "gravity coupling kept: buoyancy-equivalent volume {:.3e} m^3",
+            super::info::buoyancy_volume(g, o.model.reference_length())
+        ),
+        None => println!("gravity coupling: none"),
     }
     match o.model.spin_coupling() {
         Some(k) => println!(
@@ -197,10 +205,14 @@ fn report(o: &FitOutcome, loaded: f64, total: f64) -> serde_json::Value {
                 "empty_frames": r.filter.empty_frames, "filter_restarts": r.filter.restarts,
                 "mirror_switches": r.filter.mirror_switches,
                 "rejected": r.rejected, "seconds": r.seconds,
-                "spin_coupling_test": r.coupling_test.map(|t| json!({
-                    "kept": t.coupling.is_some(),
-                    "held_out_force_rms_without_n": t.held_out_rms_without,
-                    "held_out_force_rms_with_n": t.held_out_rms_with,
+                "extension_test": r.extension_test.map(|t| json!({
+                    "kept": { "spin_coupling": t.kept.spin, "gravity_coupling": t.kept.gravity },
+                    "held_out_force_rms_n": {
+                        "without": t.held_out_rms_without,
+                        "spin_coupling": t.held_out_rms_spin,
+                        "gravity_coupling": t.held_out_rms_gravity,
+                        "both": t.held_out_rms_both,
+                    },
                     "frames": t.frames, "takes": t.takes,
                 })),
             })
@@ -229,6 +241,10 @@ fn report(o: &FitOutcome, loaded: f64, total: f64) -> serde_json::Value {
         "spin_coupling": o.model.spin_coupling().map(|k| json!({
             "tensor_k_ijk": k.k,
             "magnus_scale": super::info::magnus_scale(&k.k),
+        })),
+        "gravity_coupling": o.model.gravity_coupling().map(|g| json!({
+            "matrix_g_rows": [g.g.row(0).iter().collect::<Vec<_>>(), g.g.row(1).iter().collect::<Vec<_>>(), g.g.row(2).iter().collect::<Vec<_>>()],
+            "buoyancy_volume_m3": super::info::buoyancy_volume(g, o.model.reference_length()),
         })),
         "timings": { "load_s": loaded, "total_s": total },
     })

@@ -93,6 +93,10 @@ fn summary(m: &Coefficients<f64>) -> serde_json::Value {
             "tensor_k_ijk": s.k,
             "magnus_scale": magnus_scale(&s.k),
         })),
+        "gravity_coupling": m.gravity_coupling().map(|g| json!({
+            "matrix_g_rows": [g.g.row(0).iter().collect::<Vec<_>>(), g.g.row(1).iter().collect::<Vec<_>>(), g.g.row(2).iter().collect::<Vec<_>>()],
+            "buoyancy_volume_m3": buoyancy_volume(g, m.reference_length()),
+        })),
     })
 }
 
@@ -144,6 +148,12 @@ fn print_text(m: &Coefficients<f64>, s: &serde_json::Value) {
         None => println!("coverage:          (not recorded)"),
     }
     println!("extensions:        {}", m.extensions().len());
+    if let Some(g) = m.gravity_coupling() {
+        println!(
+            "gravity coupling:  buoyancy-equivalent volume {:.3e} m^3 (F = ρL³ G Rᵀg)",
+            buoyancy_volume(g, m.reference_length())
+        );
+    }
     if let Some(s) = m.spin_coupling() {
         let norm = s.k.iter().flatten().map(|x| x * x).sum::<f64>().sqrt();
         println!(
@@ -151,6 +161,15 @@ fn print_text(m: &Coefficients<f64>, s: &serde_json::Value) {
             magnus_scale(&s.k)
         );
     }
+}
+
+/// The displaced volume whose buoyancy is the isotropic part of a
+/// gravity coupling, m³: `-L³ tr(G)/3` (buoyancy is `G = -(V/L³) I`).
+pub fn buoyancy_volume(
+    g: &omniad_core::gravity_coupling::GravityCoupling<f64>,
+    reference_length: f64,
+) -> f64 {
+    -g.g.trace() / 3.0 * reference_length.powi(3)
 }
 
 /// The Magnus part of a spin-coupling tensor: the `c` of `c ε_ijk` closest

@@ -1,15 +1,20 @@
-//! The spin-coupling extension: its force, its place in `wrench`, and its
-//! storage as a model extension in `.omni` files.
+//! The model extensions this build evaluates (spin coupling, gravity
+//! coupling): their forces, where they enter the dynamics, and their
+//! storage in `.omni` files.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::indexing_slicing)]
 
 #[path = "golden/model.rs"]
 mod model;
 
 use nalgebra::Vector3;
+use nalgebra::{Matrix3, UnitQuaternion};
 use omniad_core::coefficients::{extension_kind, Extension};
 use omniad_core::file::{decode, encode, FileError, MAX_FILE_SIZE};
+use omniad_core::gravity_coupling::GravityCoupling;
+use omniad_core::rigid_body::{AirForces, Forces};
 use omniad_core::spin_coupling::SpinCoupling;
 use omniad_core::{Coefficients, ModelError};
+use omniad_core::{Environment, State};
 
 fn encoded(m: &Coefficients<f64>) -> Vec<u8> {
     let mut buf = vec![0u8; MAX_FILE_SIZE];
@@ -146,4 +151,85 @@ fn a_file_with_a_malformed_coupling_is_rejected_naming_it() {
         err,
         FileError::from(ModelError::OutOfRange("spin_coupling payload"))
     );
+}
+
+#[test]
+fn buoyancy_is_minus_rho_volume_gravity() {
+    let g_body = Vector3::new(1.0, -2.0, -9.5);
+    let b = GravityCoupling::buoyancy(2.0e-3, 0.6);
+    let f = b.force(&g_body, 1.2, 0.6);
+    let expected = -g_body * (1.2 * 2.0e-3);
+    assert!((f - expected).norm() < 1e-12, "{f} vs {expected}");
+}
+
+#[test]
+fn air_forces_add_the_gravity_coupling_at_the_body_attitude() {
+    let mut m = model::golden_model();
+    let g = GravityCoupling {
+        g: Matrix3::new(0.01, 0.002, 0.0, -0.003, 0.02, 0.001, 0.0, 0.004, -0.03),
+    };
+    m.set_gravity_coupling(Some(g)).unwrap();
+    let environment = Environment {
+        gravity: Vector3::new(0.0, 0.0, -9.81),
+        air_density: 1.2,
+        wind: Vector3::zeros(),
+    };
+    let state = State {
+        position: Vector3::zeros(),
+        orientation: UnitQuaternion::from_euler_angles(0.3, -0.7, 1.1),
+        velocity: Vector3::new(1.0, 2.0, -3.0),
+        angular_velocity: Vector3::new(0.5, 0.0, -1.0),
+    };
+    let w = AirForces {
+        model: &m,
+        environment,
+    }
+    .wrench(0.0, &state);
+    let v_body = state.orientation.inverse_transform_vector(&state.velocity);
+    let plain = m.wrench(&v_body, &state.angular_velocity, 1.2);
+    let g_body = state
+        .orientation
+        .inverse_transform_vector(&environment.gravity);
+    // The model holds G rounded to f32 (the payload).
+    let extra = m
+        .gravity_coupling()
+        .unwrap()
+        .force(&g_body, 1.2, m.reference_length());
+    assert!(extra.norm() > 1e-3);
+    let scale = 1.0 + plain.force.norm();
+    assert!(
+        (w.force - plain.force - extra).norm() < 1e-12 * scale,
+        "{} vs {}",
+        w.force - plain.force,
+        extra
+    );
+    assert_eq!(w.torque, plain.torque);
+}
+
+#[test]
+fn both_couplings_survive_the_file_and_malformed_gravity_payloads_are_errors() {
+    let mut m = model::golden_model();
+    m.set_spin_coupling(Some(sample_tensor())).unwrap();
+    let g = GravityCoupling::buoyancy(1.0e-3, m.reference_length());
+    m.set_gravity_coupling(Some(g)).unwrap();
+    let back: Coefficients<f64> = decode(&encoded(&m)).unwrap();
+    assert_eq!(back, m);
+    let stored = back.gravity_coupling().unwrap();
+    assert!((stored.g - g.g).abs().max() <= 1e-7 * g.g.abs().max());
+    let mut short = g.to_extension().unwrap();
+    short.data.truncate(32);
+    let mut plain = model::golden_model();
+    assert_eq!(
+        plain.add_extension(short),
+        Err(ModelError::OutOfRange("gravity_coupling payload"))
+    );
+    assert_eq!(
+        m.add_extension(g.to_extension().unwrap()),
+        Err(ModelError::DuplicateExtension(
+            extension_kind::GRAVITY_COUPLING
+        ))
+    );
+    m.set_gravity_coupling(None).unwrap();
+    assert!(m.gravity_coupling().is_none());
+    assert!(m.spin_coupling().is_some());
 }
