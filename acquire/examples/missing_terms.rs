@@ -1,7 +1,9 @@
 //! Residual analysis from the TRUE states of a set: fit the paper's model
 //! (no extension) to the forces of `truth/`, then regress the per-frame
 //! force residual on candidate terms the model lacks, body frame: `Ω⊗V`
-//! (bilinear: Magnus, added-mass coupling), plus `Ω⊗Ω`, `V`, or `|Ω|V`.
+//! (bilinear: Magnus, added-mass coupling), plus `Ω⊗Ω`, `V`, `|Ω|V`, the
+//! body-frame acceleration (added mass) or gravity `Rᵀg` (buoyancy, added
+//! mass), or `Rᵀg` alone.
 //! Prints the RMS residual (N) before and after each:
 //! `cargo run --release -p omniad-acquire --example missing_terms -- SET`.
 
