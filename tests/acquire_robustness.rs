@@ -136,3 +136,37 @@ fn a_diverged_first_reconstruction_is_an_error_not_a_model() {
     assert!(err.contains("diverged in the first iteration"), "{err}");
     assert!(err.contains("restarts"), "{err}");
 }
+
+/// The final reconstruction's process noise: the unexplained wrench's
+/// correlation time is one of the grid's, its stationary RMS is kept, and
+/// the markers are at least as likely under it as under the refinement's.
+#[test]
+fn the_final_bias_time_is_the_most_likely_on_the_grid() {
+    let tmp = tempfile::tempdir().expect("tempdir");
+    small_set(tmp.path(), 0.0);
+    let set = RecordingSet::load(tmp.path()).expect("load");
+    let cfg = FitConfig {
+        iterations: 2,
+        ..FitConfig::default()
+    };
+    let out = pipeline::fit(&set, &cfg, &Silent).expect("fit");
+    let used = out.iterations.last().expect("iteration").noise;
+    assert!(
+        used.bias_time.is_finite(),
+        "the second iteration has a model"
+    );
+    let chosen =
+        pipeline::most_likely_bias_time(&set, &out.model, used, &cfg.filter).expect("likelihood");
+    let ratio = chosen.bias_time / used.bias_time;
+    assert!(
+        pipeline::BIAS_TIME_FRACTIONS
+            .iter()
+            .any(|f| (f - ratio).abs() < 1e-12),
+        "ratio {ratio}"
+    );
+    let rms = |n: &pipeline::ProcessNoise| n.force_walk * (n.bias_time / 2.0).sqrt();
+    assert!((rms(&chosen) - rms(&used)).abs() <= 1e-12 * rms(&used));
+    let ll = |n| pipeline::log_likelihood(&set, &out.model, n, &cfg.filter).expect("ll");
+    let (best, start) = (ll(chosen), ll(used));
+    assert!(best.is_finite() && best >= start, "{best} < {start}");
+}

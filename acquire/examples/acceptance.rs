@@ -71,7 +71,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             r.seconds
         );
     }
-    let noise = pipeline::final_noise(&set, &out, &cfg);
+    let noise = pipeline::final_noise(&set, &out, &cfg)?;
     let rec = pipeline::refine(
         &set,
         &out.model,

@@ -57,7 +57,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         {
             cfg.filter.relinearise = r;
         }
-        let mut noise = pipeline::final_noise(&set, &out, &cfg);
+        let mut noise = pipeline::final_noise(&set, &out, &cfg)?;
         println!("final noise {noise:?}");
         noise.force_walk *= scale;
         noise.torque_walk *= scale;

@@ -386,6 +386,60 @@ impl Filter<'_> {
         }
     }
 
+    /// The forward filter's innovation log-likelihood of one take's markers,
+    /// `Σ_k -½(ν_kᵀ S_k⁻¹ ν_k + ln det S_k)` over epochs with markers (ν the
+    /// stacked pixel innovations of the prediction, S their covariance);
+    /// each marker's squared Mahalanobis distance is capped at the gate so
+    /// that outliers count as gated. Scores process-noise settings: the
+    /// better the prediction, the higher.
+    pub fn log_likelihood(&self, epochs: &[Epoch], initial: State<f64>) -> f64 {
+        let Some(camera) = self.camera else {
+            return 0.0;
+        };
+        let mut stats = FilterStats::default();
+        let steps = self.forward(epochs, FilterState::new(initial), &mut stats);
+        let r = self.config.pixel_noise.powi(2);
+        let mut total = 0.0;
+        for (step, e) in steps.iter().zip(epochs) {
+            let Observation::Markers(list) = &e.observation else {
+                continue;
+            };
+            let rows: Vec<_> = list
+                .iter()
+                .filter_map(|m| {
+                    let (_, body) = self.object.markers.get(m.marker)?;
+                    let (pixel, h) = marker_pixel(camera, &step.predicted.body, body)?;
+                    Some((m.pixel - pixel, h))
+                })
+                .collect();
+            if rows.is_empty() {
+                continue;
+            }
+            let n = 2 * rows.len();
+            let mut h = nalgebra::DMatrix::<f64>::zeros(n, crate::state::N);
+            let mut nu = nalgebra::DVector::<f64>::zeros(n);
+            for (i, (d, hi)) in rows.iter().enumerate() {
+                h.view_mut((2 * i, 0), (2, crate::state::N)).copy_from(hi);
+                nu.rows_mut(2 * i, 2).copy_from(d);
+            }
+            let p = nalgebra::DMatrix::from_column_slice(
+                crate::state::N,
+                crate::state::N,
+                step.predicted_cov.as_slice(),
+            );
+            let cov = &h * p * h.transpose() + nalgebra::DMatrix::identity(n, n) * r;
+            let Some(chol) = cov.cholesky() else {
+                continue;
+            };
+            let d2 = nu
+                .dot(&chol.solve(&nu))
+                .min(self.config.marker_gate * rows.len() as f64);
+            let log_det: f64 = 2.0 * chol.l().diagonal().iter().map(|v| v.ln()).sum::<f64>();
+            total -= 0.5 * (d2 + log_det);
+        }
+        total
+    }
+
     /// Markers whose innovation passes the chi-square gate (all when `force`).
     fn gate_markers(
         &self,

@@ -287,6 +287,64 @@ pub fn refine(
     Ok(out)
 }
 
+/// The forward filter's innovation log-likelihood of every take's
+/// markers with `model` and `noise` ([`Filter::log_likelihood`]), summed.
+pub fn log_likelihood(
+    set: &RecordingSet,
+    model: &Coefficients<f64>,
+    noise: ProcessNoise,
+    cfg: &FilterConfig,
+) -> Result<f64> {
+    let filter = filter(set, model, noise, cfg)?;
+    let mut total = 0.0;
+    for take in &set.takes {
+        let initial = initial_state(&take.epochs, take.initial)
+            .map_err(|e| Error::Data(format!("take {}: {e}", take.name)))?;
+        total += filter.log_likelihood(&take.epochs, initial);
+    }
+    Ok(total)
+}
+
+/// Correlation times tried by [`most_likely_bias_time`], as fractions of
+/// the default `BIAS_TIME_SCALES·τ` (down to one eighth of a frame at 60 fps
+/// for a 0.58 m object: the unexplained wrench is then white).
+pub const BIAS_TIME_FRACTIONS: [f64; 8] = [1.0, 0.5, 0.25, 0.125, 0.0625, 0.031, 0.0156, 0.0078];
+
+/// `noise` with the correlation time of its unexplained wrench chosen by
+/// maximum innovation likelihood of the markers ([`log_likelihood`]) over
+/// [`BIAS_TIME_FRACTIONS`], the wrench's stationary RMS kept. `noise` itself
+/// when it has no finite correlation time (no model yet).
+pub fn most_likely_bias_time(
+    set: &RecordingSet,
+    model: &Coefficients<f64>,
+    noise: ProcessNoise,
+    cfg: &FilterConfig,
+) -> Result<ProcessNoise> {
+    if !noise.bias_time.is_finite() || noise.bias_time <= 0.0 {
+        return Ok(noise);
+    }
+    let rms = (
+        noise.force_walk * (noise.bias_time / 2.0).sqrt(),
+        noise.torque_walk * (noise.bias_time / 2.0).sqrt(),
+    );
+    let mut best = (f64::NEG_INFINITY, noise);
+    for fraction in BIAS_TIME_FRACTIONS {
+        let bias_time = noise.bias_time * fraction;
+        let k = (2.0 / bias_time).sqrt();
+        let candidate = ProcessNoise {
+            force_walk: rms.0 * k,
+            torque_walk: rms.1 * k,
+            bias_time,
+            ..noise
+        };
+        let ll = log_likelihood(set, model, candidate, cfg)?;
+        if ll > best.0 {
+            best = (ll, candidate);
+        }
+    }
+    Ok(best.1)
+}
+
 /// Eqs. (9)-(10) on every take.
 pub fn samples(set: &RecordingSet, smoothed: &[Smoothed], stats: &mut ForceStats) -> Vec<Sample> {
     let mut out = Vec::new();
@@ -504,15 +562,25 @@ fn total_stats(smoothed: &[Smoothed]) -> FilterStats {
         })
 }
 
-/// The noise the filter should use after `outcome` (for a final reconstruction).
-pub fn final_noise(set: &RecordingSet, outcome: &FitOutcome, cfg: &FitConfig) -> ProcessNoise {
+/// The noise the filter should use after `outcome` (for a final
+/// reconstruction): the last kept iteration's, with the unexplained
+/// wrench's correlation time chosen by maximum innovation likelihood
+/// ([`most_likely_bias_time`]; the refinement iterations keep
+/// [`BIAS_TIME_SCALES`]`·τ`, whose slow decay bounds the depth drift that
+/// would otherwise pass into the fitted forces).
+pub fn final_noise(
+    set: &RecordingSet,
+    outcome: &FitOutcome,
+    cfg: &FitConfig,
+) -> Result<ProcessNoise> {
     let first = initial_noise(set);
-    outcome
+    let noise = outcome
         .iterations
         .iter()
         .rfind(|r| !r.rejected)
         .map(|r| next_noise(set, first, r.residual_dimensional, cfg.noise_floor))
-        .unwrap_or(first)
+        .unwrap_or(first);
+    most_likely_bias_time(set, &outcome.model, noise, &cfg.filter)
 }
 
 fn truncated<const N: usize>(s: &str) -> heapless::String<N> {

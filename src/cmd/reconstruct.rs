@@ -3,7 +3,7 @@
 
 use anyhow::{Context, Result};
 use clap::Args;
-use omniad_acquire::pipeline::{self, FitConfig};
+use omniad_acquire::pipeline::{self, FitConfig, Progress as _};
 use std::fmt::Write as _;
 use std::path::PathBuf;
 
@@ -33,7 +33,9 @@ pub fn run(a: &ReconstructArgs) -> Result<()> {
     };
     let bars = super::fit::Bars::default();
     let outcome = pipeline::fit(&set, &cfg, &bars).map_err(|e| anyhow::anyhow!("{e}"))?;
-    let noise = pipeline::final_noise(&set, &outcome, &cfg);
+    bars.stage("final reconstruction: process noise by likelihood", 1);
+    let noise = pipeline::final_noise(&set, &outcome, &cfg).map_err(|e| anyhow::anyhow!("{e}"))?;
+    bars.tick();
     bars.stage_final(set.takes.len());
     let smoothed = pipeline::refine(
         &set,
