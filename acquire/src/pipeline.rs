@@ -306,9 +306,10 @@ pub fn log_likelihood(
 }
 
 /// Correlation times tried by [`most_likely_bias_time`], as fractions of
-/// the default `BIAS_TIME_SCALES·τ` (down to one eighth of a frame at 60 fps
-/// for a 0.58 m object: the unexplained wrench is then white).
-pub const BIAS_TIME_FRACTIONS: [f64; 8] = [1.0, 0.5, 0.25, 0.125, 0.0625, 0.031, 0.0156, 0.0078];
+/// the default `BIAS_TIME_SCALES·τ`, in steps of 4 down to a quarter of a
+/// frame at 60 fps for a 0.58 m object (the unexplained wrench is then
+/// white).
+pub const BIAS_TIME_FRACTIONS: [f64; 5] = [1.0, 0.25, 0.0625, 0.015625, 0.00390625];
 
 /// `noise` with the correlation time of its unexplained wrench chosen by
 /// maximum innovation likelihood of the markers ([`log_likelihood`]) over
