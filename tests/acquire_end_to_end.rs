@@ -130,6 +130,23 @@ fn last_force_residual(report: &serde_json::Value) -> f64 {
         .expect("a kept iteration")
 }
 
+/// `omniad synth` of the seed-3 plate with `effect` into `dir/name`.
+fn synth_plate(dir: &Path, name: &str, effect: &str) -> String {
+    let set = dir.join(name).to_str().expect("utf-8 path").to_owned();
+    omniad(&[
+        "synth", &set, "--object", "plate", "--effect", effect, "--seed", "3",
+    ]);
+    set
+}
+
+/// `omniad fit SET -o dir/out --json EXTRA...`: the report and the file.
+fn fit_json(set: &str, dir: &Path, out: &str, extra: &[&str]) -> (serde_json::Value, String) {
+    let file = dir.join(out).to_str().expect("utf-8 path").to_owned();
+    let mut args = vec!["fit", set, "-o", &file, "--json"];
+    args.extend_from_slice(extra);
+    (json(&omniad(&args)), file)
+}
+
 /// The spin-coupling extension end to end: `omniad synth` a plate whose
 /// air also pushes with a Magnus force (`--effect magnus=0.02`: `½ρL³ 0.02
 /// Ω × V`, outside eqs. 5-6), `omniad fit` it with the extension allowed
@@ -138,36 +155,9 @@ fn last_force_residual(report: &serde_json::Value) -> f64 {
 #[test]
 fn fit_finds_a_magnus_force_and_fits_better_with_it() {
     let tmp = tempfile::tempdir().expect("tempdir");
-    let set = tmp.path().join("magnus");
-    let set_s = set.to_str().expect("utf-8 path");
-    omniad(&[
-        "synth",
-        set_s,
-        "--object",
-        "plate",
-        "--effect",
-        "magnus=0.02",
-        "--seed",
-        "3",
-    ]);
-    let with = tmp.path().join("with.omni");
-    let without = tmp.path().join("without.omni");
-    let on = json(&omniad(&[
-        "fit",
-        set_s,
-        "-o",
-        with.to_str().expect("utf-8"),
-        "--json",
-    ]));
-    let off = json(&omniad(&[
-        "fit",
-        set_s,
-        "-o",
-        without.to_str().expect("utf-8"),
-        "--extensions",
-        "off",
-        "--json",
-    ]));
+    let set = synth_plate(tmp.path(), "magnus", "magnus=0.02");
+    let (on, with) = fit_json(&set, tmp.path(), "with.omni", &[]);
+    let (off, without) = fit_json(&set, tmp.path(), "without.omni", &["--extensions", "off"]);
     let magnus = on["spin_coupling"]["magnus_scale"]
         .as_f64()
         .expect("spin coupling kept");
@@ -181,16 +171,12 @@ fn fit_finds_a_magnus_force_and_fits_better_with_it() {
         r_on < 0.85 * r_off,
         "force residual with the coupling {r_on}, without {r_off}"
     );
-    let info = json(&omniad(&["info", with.to_str().expect("utf-8"), "--json"]));
+    let info = json(&omniad(&["info", &with, "--json"]));
     let stored = info["spin_coupling"]["magnus_scale"]
         .as_f64()
         .expect("stored");
     assert!((stored - magnus).abs() < 1e-6 * magnus.abs().max(1.0));
-    let plain = json(&omniad(&[
-        "info",
-        without.to_str().expect("utf-8"),
-        "--json",
-    ]));
+    let plain = json(&omniad(&["info", &without, "--json"]));
     assert!(plain["spin_coupling"].is_null());
 }
 
@@ -202,26 +188,8 @@ fn fit_finds_a_magnus_force_and_fits_better_with_it() {
 #[test]
 fn fit_finds_buoyancy_as_a_gravity_coupling() {
     let tmp = tempfile::tempdir().expect("tempdir");
-    let set = tmp.path().join("buoyant");
-    let set_s = set.to_str().expect("utf-8 path");
-    omniad(&[
-        "synth",
-        set_s,
-        "--object",
-        "plate",
-        "--effect",
-        "buoyancy=1.0",
-        "--seed",
-        "3",
-    ]);
-    let out = tmp.path().join("buoyant.omni");
-    let report = json(&omniad(&[
-        "fit",
-        set_s,
-        "-o",
-        out.to_str().expect("utf-8"),
-        "--json",
-    ]));
+    let set = synth_plate(tmp.path(), "buoyant", "buoyancy=1.0");
+    let (report, _) = fit_json(&set, tmp.path(), "buoyant.omni", &[]);
     let volume = report["gravity_coupling"]["buoyancy_volume_m3"]
         .as_f64()
         .expect("gravity coupling kept");

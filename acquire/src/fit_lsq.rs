@@ -583,18 +583,24 @@ mod tests {
         frames
     }
 
-    #[test]
-    fn gravity_coupling_is_found_when_present_and_only_then() {
-        let plain = truth_model(&ObjectSpec::of(SynthObject::Plate), 6).expect("model");
+    /// The fit context of `model` at ρ = 1.2 and a degree-6 fit.
+    fn degree_six(model: &omniad_core::Coefficients<f64>) -> (FitContext, LsqConfig) {
         let ctx = FitContext {
             air_density: 1.2,
-            reference_length: plain.reference_length(),
-            pole: plain.pole(),
+            reference_length: model.reference_length(),
+            pole: model.pole(),
         };
         let cfg = LsqConfig {
             degree: 6,
             ..LsqConfig::default()
         };
+        (ctx, cfg)
+    }
+
+    #[test]
+    fn gravity_coupling_is_found_when_present_and_only_then() {
+        let plain = truth_model(&ObjectSpec::of(SynthObject::Plate), 6).expect("model");
+        let (ctx, cfg) = degree_six(&plain);
         assert_eq!(fit(&six_takes(&plain), &ctx, &cfg).gravity_coupling, None);
         // Buoyancy of 2.4 litres.
         let buoyant = GravityCoupling::buoyancy(2.4e-3, plain.reference_length());
@@ -612,15 +618,7 @@ mod tests {
     fn spin_coupling_is_found_when_present_and_only_then() {
         let spec = ObjectSpec::of(SynthObject::Plate);
         let plain = truth_model(&spec, 6).expect("model");
-        let ctx = FitContext {
-            air_density: 1.2,
-            reference_length: plain.reference_length(),
-            pole: plain.pole(),
-        };
-        let cfg = LsqConfig {
-            degree: 6,
-            ..LsqConfig::default()
-        };
+        let (ctx, cfg) = degree_six(&plain);
         assert_eq!(fit(&six_takes(&plain), &ctx, &cfg).spin_coupling, None);
         let mut spun = plain.clone();
         let magnus = SpinCoupling::magnus(0.02);
