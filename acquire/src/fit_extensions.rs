@@ -62,6 +62,13 @@ impl Terms {
         9 * usize::from(self.spin) + 3 * usize::from(self.gravity)
     }
 
+    /// Indices of these terms' regressors among those of both terms.
+    fn rows(self) -> Vec<usize> {
+        let spin = (0..9).filter(|_| self.spin);
+        let gravity = (9..12).filter(|_| self.gravity);
+        spin.chain(gravity).collect()
+    }
+
     /// The candidates tried, singles first.
     const CANDIDATES: [Terms; 3] = [
         Terms {
@@ -113,6 +120,16 @@ impl TakeNormals {
             xtr: DMatrix::zeros(width, 3),
             rtr: 0.0,
             frames: 0,
+        }
+    }
+
+    /// The normal equations of the regressors `rows` of these.
+    fn restrict(&self, rows: &[usize]) -> Self {
+        Self {
+            xtx: self.xtx.select_rows(rows).select_columns(rows),
+            xtr: self.xtr.select_rows(rows),
+            rtr: self.rtr,
+            frames: self.frames,
         }
     }
 
@@ -207,14 +224,11 @@ pub struct ExtensionTest {
     pub takes: usize,
 }
 
-/// Leave-one-take-out held-out squared error of `terms` (best ridge).
-fn held_out(
-    samples: &[Sample],
-    ctx: &FitContext,
-    terms: Terms,
-    residual: &dyn Fn(&Sample) -> Vector3<f64>,
-) -> Option<(f64, f64, usize, usize)> {
-    let takes = normals(samples, ctx, terms, residual);
+/// Leave-one-take-out held-out squared error of `terms` (best ridge), from
+/// the per-take normal equations `all` of both terms.
+fn held_out(all: &[TakeNormals], terms: Terms) -> Option<(f64, f64, usize, usize)> {
+    let rows = terms.rows();
+    let takes: Vec<TakeNormals> = all.iter().map(|t| t.restrict(&rows)).collect();
     if takes.len() < MIN_TAKES {
         return None;
     }
@@ -248,10 +262,13 @@ pub fn test(
     ctx: &FitContext,
     residual: &dyn Fn(&Sample) -> Vector3<f64>,
 ) -> Option<ExtensionTest> {
+    // One pass over the frames (the residual evaluates eq. 5 per frame);
+    // each candidate takes its block of the normal equations.
+    let all = normals(samples, ctx, Terms::CANDIDATES[2], residual);
     let mut scores = [f64::INFINITY; 3];
     let (mut baseline, mut frames, mut takes) = (f64::NAN, 0, 0);
     for (score, terms) in scores.iter_mut().zip(Terms::CANDIDATES) {
-        if let Some((s, b, f, t)) = held_out(samples, ctx, terms, residual) {
+        if let Some((s, b, f, t)) = held_out(&all, terms) {
             *score = s;
             (baseline, frames, takes) = (b, f, t);
         }

@@ -644,15 +644,7 @@ mod tests {
     #[test]
     fn cross_validation_smooths_noisy_takes_more() {
         let truth = truth_model(&ObjectSpec::of(SynthObject::Box), 6).expect("model");
-        let ctx = FitContext {
-            air_density: 1.2,
-            reference_length: truth.reference_length(),
-            pole: truth.pole(),
-        };
-        let cfg = LsqConfig {
-            degree: 6,
-            ..LsqConfig::default()
-        };
+        let (ctx, cfg) = degree_six(&truth);
         let clean = force_smoothing(&takes_with_offsets(&truth, 0.0), &ctx, &cfg);
         let noisy = force_smoothing(&takes_with_offsets(&truth, 0.5), &ctx, &cfg);
         assert!(clean <= 1e-3, "clean frames smoothed by {clean}");

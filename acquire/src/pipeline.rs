@@ -96,6 +96,21 @@ pub struct ProcessNoise {
     pub bias_time: f64,
 }
 
+impl ProcessNoise {
+    /// The same unexplained wrench with correlation time `bias_time` (s)
+    /// and the same stationary RMS `walk·sqrt(τ_b/2)`: the walks scale by
+    /// `sqrt(τ_b/bias_time)`. Both times must be finite and positive.
+    pub fn with_bias_time(self, bias_time: f64) -> Self {
+        let k = (self.bias_time / bias_time).sqrt();
+        Self {
+            force_walk: self.force_walk * k,
+            torque_walk: self.torque_walk * k,
+            bias_time,
+            ..self
+        }
+    }
+}
+
 /// What one refinement iteration did.
 #[derive(Clone, Debug, PartialEq)]
 pub struct IterationReport {
@@ -216,6 +231,12 @@ fn initial_state(
     }
 }
 
+/// The rough initial state of a take, errors naming it.
+fn take_start(take: &crate::recording::Take) -> Result<State<f64>> {
+    initial_state(&take.epochs, take.initial)
+        .map_err(|e| Error::Data(format!("take {}: {e}", take.name)))
+}
+
 /// The filter of a set with `model` and `noise`.
 fn filter<'a>(
     set: &'a RecordingSet,
@@ -276,8 +297,7 @@ pub fn refine(
     let filter = filter(set, model, noise, cfg)?;
     let mut out = Vec::with_capacity(set.takes.len());
     for (i, take) in set.takes.iter().enumerate() {
-        let initial = initial_state(&take.epochs, take.initial)
-            .map_err(|e| Error::Data(format!("take {}: {e}", take.name)))?;
+        let initial = take_start(take)?;
         out.push(match previous.get(i) {
             Some(p) => filter.refine(&take.epochs, initial, p),
             None => filter.run(&take.epochs, initial),
@@ -298,8 +318,7 @@ pub fn log_likelihood(
     let filter = filter(set, model, noise, cfg)?;
     let mut total = 0.0;
     for take in &set.takes {
-        let initial = initial_state(&take.epochs, take.initial)
-            .map_err(|e| Error::Data(format!("take {}: {e}", take.name)))?;
+        let initial = take_start(take)?;
         total += filter.log_likelihood(&take.epochs, initial);
     }
     Ok(total)
@@ -324,20 +343,9 @@ pub fn most_likely_bias_time(
     if !noise.bias_time.is_finite() || noise.bias_time <= 0.0 {
         return Ok(noise);
     }
-    let rms = (
-        noise.force_walk * (noise.bias_time / 2.0).sqrt(),
-        noise.torque_walk * (noise.bias_time / 2.0).sqrt(),
-    );
     let mut best = (f64::NEG_INFINITY, noise);
     for fraction in BIAS_TIME_FRACTIONS {
-        let bias_time = noise.bias_time * fraction;
-        let k = (2.0 / bias_time).sqrt();
-        let candidate = ProcessNoise {
-            force_walk: rms.0 * k,
-            torque_walk: rms.1 * k,
-            bias_time,
-            ..noise
-        };
+        let candidate = noise.with_bias_time(noise.bias_time * fraction);
         let ll = log_likelihood(set, model, candidate, cfg)?;
         if ll > best.0 {
             best = (ll, candidate);
