@@ -64,8 +64,9 @@ impl Default for FitConfig {
     }
 }
 
-/// Progress reporting (the CLI draws bars; tests ignore it).
-pub trait Progress {
+/// Progress reporting (the CLI draws bars; tests ignore it). Takes are
+/// reconstructed on several threads, which tick the same reporter.
+pub trait Progress: Sync {
     /// A stage with `total` steps starts.
     fn stage(&self, name: &str, total: usize);
     /// One step of the current stage is done.
@@ -295,16 +296,57 @@ pub fn refine(
     progress: &dyn Progress,
 ) -> Result<Vec<Smoothed>> {
     let filter = filter(set, model, noise, cfg)?;
-    let mut out = Vec::with_capacity(set.takes.len());
-    for (i, take) in set.takes.iter().enumerate() {
+    per_take(set.takes.len(), |i| {
+        let take = set
+            .takes
+            .get(i)
+            .ok_or_else(|| Error::Data(format!("no take {i}")))?;
         let initial = take_start(take)?;
-        out.push(match previous.get(i) {
+        let smoothed = match previous.get(i) {
             Some(p) => filter.refine(&take.epochs, initial, p),
             None => filter.run(&take.epochs, initial),
-        });
+        };
         progress.tick();
+        Ok(smoothed)
+    })
+    .into_iter()
+    .collect()
+}
+
+/// `work(0..n)` on up to [`std::thread::available_parallelism`] threads
+/// (the takes of a set are independent), results in index order.
+fn per_take<T: Send>(n: usize, work: impl Fn(usize) -> T + Sync) -> Vec<T> {
+    let threads = std::thread::available_parallelism()
+        .map_or(1, |p| p.get())
+        .min(n);
+    if threads <= 1 {
+        return (0..n).map(work).collect();
     }
-    Ok(out)
+    let next = std::sync::atomic::AtomicUsize::new(0);
+    let mut done: Vec<(usize, T)> = std::thread::scope(|scope| {
+        let workers: Vec<_> = (0..threads)
+            .map(|_| {
+                scope.spawn(|| {
+                    let mut mine = Vec::new();
+                    loop {
+                        let i = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+                        if i >= n {
+                            break mine;
+                        }
+                        mine.push((i, work(i)));
+                    }
+                })
+            })
+            .collect();
+        workers
+            .into_iter()
+            // A worker that panicked re-raises its panic here rather than
+            // losing its takes.
+            .flat_map(|w| w.join().unwrap_or_else(|e| std::panic::resume_unwind(e)))
+            .collect()
+    });
+    done.sort_by_key(|(i, _)| *i);
+    done.into_iter().map(|(_, t)| t).collect()
 }
 
 /// The forward filter's innovation log-likelihood of every take's
@@ -316,12 +358,15 @@ pub fn log_likelihood(
     cfg: &FilterConfig,
 ) -> Result<f64> {
     let filter = filter(set, model, noise, cfg)?;
-    let mut total = 0.0;
-    for take in &set.takes {
-        let initial = take_start(take)?;
-        total += filter.log_likelihood(&take.epochs, initial);
-    }
-    Ok(total)
+    let per: Vec<Result<f64>> = per_take(set.takes.len(), |i| {
+        let take = set
+            .takes
+            .get(i)
+            .ok_or_else(|| Error::Data(format!("no take {i}")))?;
+        Ok(filter.log_likelihood(&take.epochs, take_start(take)?))
+    });
+    // Summed in take order, so the total does not depend on the threads.
+    per.into_iter().sum()
 }
 
 /// Correlation times tried by [`most_likely_bias_time`], as fractions of
@@ -637,4 +682,23 @@ fn fill_provenance(
             .map_err(|_| Error::Data("coverage grid size".into()))?;
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::per_take;
+
+    #[test]
+    fn per_take_keeps_index_order_whatever_the_threads() {
+        // Uneven work so that the threads finish out of order.
+        let out = per_take(40, |i| {
+            std::thread::sleep(std::time::Duration::from_micros(
+                ((i * 7919) % 13) as u64 * 50,
+            ));
+            i * i
+        });
+        assert_eq!(out, (0..40).map(|i| i * i).collect::<Vec<_>>());
+        assert!(per_take(0, |i| i).is_empty());
+        assert_eq!(per_take(1, |i| i + 5), vec![5]);
+    }
 }

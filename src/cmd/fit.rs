@@ -6,8 +6,8 @@ use indicatif::{ProgressBar, ProgressStyle};
 use omniad_acquire::pipeline::{self, FitConfig, FitOutcome, Method, Progress};
 use omniad_acquire::recording::RecordingSet;
 use serde_json::json;
-use std::cell::RefCell;
 use std::path::PathBuf;
+use std::sync::Mutex;
 use std::time::Instant;
 
 /// Fitting method.
@@ -60,7 +60,7 @@ pub enum ExtensionsArg {
 
 /// Progress bars on stderr, one per pipeline stage.
 #[derive(Default)]
-pub struct Bars(RefCell<Option<ProgressBar>>);
+pub struct Bars(Mutex<Option<ProgressBar>>);
 
 impl Progress for Bars {
     fn stage(&self, name: &str, total: usize) {
@@ -69,12 +69,13 @@ impl Progress for Bars {
         {
             bar.set_style(style.progress_chars("=> "));
         }
-        if let Some(old) = self.0.replace(Some(bar)) {
+        let old = self.0.lock().ok().and_then(|mut b| b.replace(bar));
+        if let Some(old) = old {
             old.finish();
         }
     }
     fn tick(&self) {
-        if let Some(b) = self.0.borrow().as_ref() {
+        if let Some(b) = self.0.lock().ok().as_ref().and_then(|b| b.as_ref()) {
             b.inc(1);
         }
     }
@@ -89,7 +90,7 @@ impl Bars {
 
 impl Drop for Bars {
     fn drop(&mut self) {
-        if let Some(b) = self.0.get_mut().take() {
+        if let Some(b) = self.0.get_mut().ok().and_then(Option::take) {
             b.finish();
         }
     }
