@@ -33,7 +33,11 @@ pub struct FitArgs {
     /// Fitting method.
     #[arg(long, value_enum, default_value_t = MethodArg::Lsq)]
     pub method: MethodArg,
-    /// Refinement iterations (filter + fit rounds, §6).
+    /// Refinement iterations (filter + fit rounds, §6). Each further round
+    /// still improves a well-observed set's C_F (openbox-clean: 8.1 % at 3,
+    /// 6.2 % at 8, 6.0 % at 10; about a second per round, see
+    /// BENCHMARKS.md); a round that fits worse is rejected and stops the
+    /// refinement.
     #[arg(long, default_value_t = 3)]
     pub iterations: usize,
     /// Model extensions beyond eqs. (5)-(6): the spin coupling (a force
