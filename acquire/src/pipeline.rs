@@ -296,11 +296,7 @@ pub fn refine(
     progress: &dyn Progress,
 ) -> Result<Vec<Smoothed>> {
     let filter = filter(set, model, noise, cfg)?;
-    per_take(set.takes.len(), |i| {
-        let take = set
-            .takes
-            .get(i)
-            .ok_or_else(|| Error::Data(format!("no take {i}")))?;
+    per_take(&set.takes, |i, take| {
         let initial = take_start(take)?;
         let smoothed = match previous.get(i) {
             Some(p) => filter.refine(&take.epochs, initial, p),
@@ -313,14 +309,16 @@ pub fn refine(
     .collect()
 }
 
-/// `work(0..n)` on up to [`std::thread::available_parallelism`] threads
-/// (the takes of a set are independent), results in index order.
-fn per_take<T: Send>(n: usize, work: impl Fn(usize) -> T + Sync) -> Vec<T> {
+/// `work(i, &items[i])` for every item on up to
+/// [`std::thread::available_parallelism`] threads (the takes of a set are
+/// independent), results in index order.
+fn per_take<I: Sync, T: Send>(items: &[I], work: impl Fn(usize, &I) -> T + Sync) -> Vec<T> {
+    let n = items.len();
     let threads = std::thread::available_parallelism()
         .map_or(1, |p| p.get())
         .min(n);
     if threads <= 1 {
-        return (0..n).map(work).collect();
+        return items.iter().enumerate().map(|(i, x)| work(i, x)).collect();
     }
     let next = std::sync::atomic::AtomicUsize::new(0);
     let mut done: Vec<(usize, T)> = std::thread::scope(|scope| {
@@ -330,10 +328,10 @@ fn per_take<T: Send>(n: usize, work: impl Fn(usize) -> T + Sync) -> Vec<T> {
                     let mut mine = Vec::new();
                     loop {
                         let i = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-                        if i >= n {
+                        let Some(item) = items.get(i) else {
                             break mine;
-                        }
-                        mine.push((i, work(i)));
+                        };
+                        mine.push((i, work(i, item)));
                     }
                 })
             })
@@ -358,11 +356,7 @@ pub fn log_likelihood(
     cfg: &FilterConfig,
 ) -> Result<f64> {
     let filter = filter(set, model, noise, cfg)?;
-    let per: Vec<Result<f64>> = per_take(set.takes.len(), |i| {
-        let take = set
-            .takes
-            .get(i)
-            .ok_or_else(|| Error::Data(format!("no take {i}")))?;
+    let per: Vec<Result<f64>> = per_take(&set.takes, |_, take| {
         Ok(filter.log_likelihood(&take.epochs, take_start(take)?))
     });
     // Summed in take order, so the total does not depend on the threads.
@@ -691,14 +685,15 @@ mod tests {
     #[test]
     fn per_take_keeps_index_order_whatever_the_threads() {
         // Uneven work so that the threads finish out of order.
-        let out = per_take(40, |i| {
+        let items: Vec<usize> = (0..40).map(|i| 3 * i).collect();
+        let out = per_take(&items, |i, x| {
             std::thread::sleep(std::time::Duration::from_micros(
                 ((i * 7919) % 13) as u64 * 50,
             ));
-            i * i
+            (i, x * x)
         });
-        assert_eq!(out, (0..40).map(|i| i * i).collect::<Vec<_>>());
-        assert!(per_take(0, |i| i).is_empty());
-        assert_eq!(per_take(1, |i| i + 5), vec![5]);
+        assert_eq!(out, (0..40).map(|i| (i, 9 * i * i)).collect::<Vec<_>>());
+        assert!(per_take(&[] as &[usize], |_, x| *x).is_empty());
+        assert_eq!(per_take(&[5], |i, x| i + x), vec![5]);
     }
 }
