@@ -4,7 +4,7 @@
 //! floor), `MIRROR_WINDOW`, `XR` (a fixed smoothing weight instead of the
 //! cross-validated one), `RELIN` (`filter.relinearise`),
 //! `RELIN_ITS` (`relinearised_iterations`), `EXTENSIONS=off` (the paper's
-//! model only).
+//! model only), `DEG` (SH degree), `ORDER` (`lsq.smoothness_order`).
 
 use omniad_acquire::pipeline::{self, FitConfig, Method, Silent};
 use omniad_acquire::recording::RecordingSet;
@@ -56,6 +56,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     }
     if let Some(r) = std::env::var("RELIN_ITS").ok().and_then(|s| s.parse().ok()) {
         cfg.relinearised_iterations = r;
+    }
+    if let Some(d) = std::env::var("DEG").ok().and_then(|s| s.parse().ok()) {
+        cfg.degree = d;
+    }
+    if let Some(p) = std::env::var("ORDER").ok().and_then(|s| s.parse().ok()) {
+        cfg.lsq.smoothness_order = Some(p);
     }
     let out = pipeline::fit(&set, &cfg, &Silent)?;
     let fit_time = start.elapsed().as_secs_f64();
@@ -125,8 +131,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         pole: set.object.pole,
     };
     println!(
-        "last fit's smoothing weight {}",
+        "last fit's smoothing {:?}",
         omniad_acquire::fit_lsq::force_smoothing(&out.samples, &ctx, &cfg.lsq)
+    );
+    println!(
+        "last torque fit's smoothing {:?}",
+        omniad_acquire::fit_lsq::torque_smoothing(&out.samples, &ctx, &cfg.lsq)
     );
     println!("D = {:?}", out.model.damping());
     println!("fit wall time {fit_time:.2} s");

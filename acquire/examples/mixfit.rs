@@ -1,7 +1,9 @@
 //! Diagnostic: which part of the reconstructed frames carries the C_F
 //! error — the forces or the velocities (E, |V|)? Fits mixtures of the
 //! last iteration's frames and the true states' frames (same frames, same
-//! flags), and tries dropping the take ends:
+//! flags), tries dropping the take ends, reconstructs the set again with the
+//! final model and with the model fitted to the true states (and refits
+//! each reconstruction), and removes each take's speed scale:
 //! `cargo run --release -p omniad-acquire --example mixfit -- SET`.
 use omniad_acquire::forces::{ForceStats, Sample};
 use omniad_acquire::model::zero_model;
@@ -86,6 +88,100 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             .collect();
         report(&format!("tenths {lo}..{hi}"), &f)?;
     }
+    // Reconstruction with the model fitted to the true states.
+    let model_t = pipeline::fit_samples(&base, &tframes, &set, &cfg)?;
+    let noise = pipeline::final_noise(&set, &out, &cfg)?;
+    let mut recs = Vec::new();
+    let n = model_t.coeff_count();
+    let mut final_alpha = model_t.clone();
+    let mut true_alpha = out.model.clone();
+    for i in 0..3 {
+        for k in 0..n {
+            final_alpha.set_alpha(i, k, out.model.alpha(i, k).unwrap_or(0.0))?;
+            true_alpha.set_alpha(i, k, model_t.alpha(i, k).unwrap_or(0.0))?;
+        }
+    }
+    for (label, m) in [
+        ("final model", &out.model),
+        ("true-state model", &model_t),
+        ("final alpha, true-state beta/D", &final_alpha),
+        ("true-state alpha, final beta/D", &true_alpha),
+    ] {
+        let rec = pipeline::refine(&set, m, noise, &cfg.filter, &out.reconstruction, &Silent)?;
+        let mut total = omniad_acquire::truth::StateError::default();
+        for (take, s) in set.takes.iter().zip(&rec) {
+            let t = omniad_acquire::truth::read_states(
+                &dir.join("truth").join(format!("{}.csv", take.name)),
+            )?;
+            total.add(&omniad_acquire::truth::state_error(s, &t));
+        }
+        let mut st = ForceStats::default();
+        let frames = pipeline::samples(&set, &rec, &mut st);
+        let refit = pipeline::fit_samples(&base, &frames, &set, &cfg)?;
+        let (e, _) = force_error(&refit, &truth, &dirs, 20, 15f64.to_radians());
+        println!(
+            "reconstructed with the {label}: {:.2} cm, {:.2} deg; refit C_F {:.2} %",
+            total.position_rms() * 100.0,
+            total.angle_rms().to_degrees(),
+            e * 100.0
+        );
+        recs.push(frames);
+    }
+    // Which part of those two reconstructions carries the model's pull.
+    if let [with_final, with_true, ..] = recs.as_slice() {
+        let key: HashMap<(usize, usize), Sample> =
+            with_true.iter().map(|s| ((s.take, s.index), *s)).collect();
+        let swap = |f: &dyn Fn(&Sample, &Sample) -> Sample| -> Vec<Sample> {
+            with_final
+                .iter()
+                .filter_map(|s| key.get(&(s.take, s.index)).map(|t| f(s, t)))
+                .collect()
+        };
+        report(
+            "final-model forces, true-state-model V/Ω",
+            &swap(&|s, t| Sample {
+                velocity: t.velocity,
+                angular_velocity: t.angular_velocity,
+                gravity_body: t.gravity_body,
+                ..*s
+            }),
+        )?;
+        report(
+            "true-state-model forces, final-model V/Ω",
+            &swap(&|s, t| Sample {
+                force: t.force,
+                torque: t.torque,
+                force_cov: t.force_cov,
+                ..*s
+            }),
+        )?;
+    }
+    // Per-take speed scale of the reconstruction.
+    let mut ratio: HashMap<usize, (f64, f64)> = HashMap::new();
+    for s in &out.samples {
+        if let Some(t) = tmap.get(&(s.take, s.index)) {
+            let e = ratio.entry(s.take).or_default();
+            e.0 += s.velocity.dot(&t.velocity);
+            e.1 += t.velocity.norm_squared();
+        }
+    }
+    let mut takes: Vec<_> = ratio.iter().map(|(k, (a, b))| (*k, a / b)).collect();
+    takes.sort_by_key(|t| t.0);
+    for (k, r) in &takes {
+        println!("take {k}: speed scale {r:.4}");
+    }
+    let scaled: Vec<Sample> = out
+        .samples
+        .iter()
+        .map(|s| {
+            let r = takes.iter().find(|t| t.0 == s.take).map_or(1.0, |t| t.1);
+            Sample {
+                velocity: s.velocity / r,
+                ..*s
+            }
+        })
+        .collect();
+    report("rec, per-take speed scale removed", &scaled)?;
     // Errors by time since take start.
     let mut buckets = [(0.0f64, 0.0f64, 0usize); 10];
     for s in &out.samples {

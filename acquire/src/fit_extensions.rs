@@ -21,7 +21,7 @@
 use crate::fit_cv::Normals;
 use crate::fit_lsq::{
     enforce_no_thrust, fit_force_smoothed, force_frames, force_row, force_smoothing, force_weights,
-    normals_with, regularise, sh_and_basis, FitContext, ForceRow, LsqConfig,
+    normals_with, regularise, sh_and_basis, FitContext, ForceRow, LsqConfig, Smoothing,
 };
 use crate::forces::Sample;
 use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
@@ -312,6 +312,8 @@ pub(crate) struct ForceFit {
     pub gravity: Option<GravityCoupling<f64>>,
     /// The held-out test that decided (when it was run).
     pub test: Option<ExtensionTest>,
+    /// The smoothness penalty of alpha.
+    pub smoothing: Smoothing,
 }
 
 /// Alpha and, when `cfg.extensions`, the extensions the held-out test
@@ -330,6 +332,7 @@ pub(crate) fn fit_force_and_extensions(
         spin: None,
         gravity: None,
         test,
+        smoothing,
     };
     if !cfg.extensions {
         return none(plain, None);
@@ -361,6 +364,7 @@ pub(crate) fn fit_force_and_extensions(
         spin,
         gravity,
         test: tested,
+        smoothing,
     }
 }
 

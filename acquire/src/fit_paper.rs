@@ -151,6 +151,7 @@ pub fn fit(samples: &[Sample], ctx: &FitContext, degree: usize) -> RawModel {
         spin_coupling: None,
         gravity_coupling: None,
         extension_test: None,
+        smoothing: None,
     }
 }
 

@@ -21,6 +21,7 @@ pub mod import;
 pub mod measurement;
 pub mod model;
 pub mod panel;
+pub mod parallel;
 pub mod pipeline;
 pub mod process;
 pub mod projection;

@@ -5,7 +5,7 @@ use crate::coverage;
 use crate::error::{Error, Result};
 use crate::filter::{Filter, FilterConfig, FilterStats, Smoothed};
 use crate::fit_extensions::ExtensionTest;
-use crate::fit_lsq::{FitContext, LsqConfig};
+use crate::fit_lsq::{FitContext, FitSmoothing, LsqConfig};
 use crate::forces::{self, ForceStats, Sample};
 use crate::model::{with_raw, zero_model};
 use crate::process::Process;
@@ -132,6 +132,8 @@ pub struct IterationReport {
     /// The held-out test of the model extensions (least squares with
     /// extensions allowed).
     pub extension_test: Option<ExtensionTest>,
+    /// The smoothness penalties the least-squares fit chose.
+    pub smoothing: Option<FitSmoothing>,
 }
 
 /// An iteration is rejected (see [`fit`]) when its force or torque residual
@@ -296,7 +298,7 @@ pub fn refine(
     progress: &dyn Progress,
 ) -> Result<Vec<Smoothed>> {
     let filter = filter(set, model, noise, cfg)?;
-    per_take(&set.takes, |i, take| {
+    crate::parallel::map(&set.takes, |i, take| {
         let initial = take_start(take)?;
         let smoothed = match previous.get(i) {
             Some(p) => filter.refine(&take.epochs, initial, p),
@@ -309,44 +311,6 @@ pub fn refine(
     .collect()
 }
 
-/// `work(i, &items[i])` for every item on up to
-/// [`std::thread::available_parallelism`] threads (the takes of a set are
-/// independent), results in index order.
-fn per_take<I: Sync, T: Send>(items: &[I], work: impl Fn(usize, &I) -> T + Sync) -> Vec<T> {
-    let n = items.len();
-    let threads = std::thread::available_parallelism()
-        .map_or(1, |p| p.get())
-        .min(n);
-    if threads <= 1 {
-        return items.iter().enumerate().map(|(i, x)| work(i, x)).collect();
-    }
-    let next = std::sync::atomic::AtomicUsize::new(0);
-    let mut done: Vec<(usize, T)> = std::thread::scope(|scope| {
-        let workers: Vec<_> = (0..threads)
-            .map(|_| {
-                scope.spawn(|| {
-                    let mut mine = Vec::new();
-                    loop {
-                        let i = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-                        let Some(item) = items.get(i) else {
-                            break mine;
-                        };
-                        mine.push((i, work(i, item)));
-                    }
-                })
-            })
-            .collect();
-        workers
-            .into_iter()
-            // A worker that panicked re-raises its panic here rather than
-            // losing its takes.
-            .flat_map(|w| w.join().unwrap_or_else(|e| std::panic::resume_unwind(e)))
-            .collect()
-    });
-    done.sort_by_key(|(i, _)| *i);
-    done.into_iter().map(|(_, t)| t).collect()
-}
-
 /// The forward filter's innovation log-likelihood of every take's
 /// markers with `model` and `noise` ([`Filter::log_likelihood`]), summed.
 pub fn log_likelihood(
@@ -356,7 +320,7 @@ pub fn log_likelihood(
     cfg: &FilterConfig,
 ) -> Result<f64> {
     let filter = filter(set, model, noise, cfg)?;
-    let per: Vec<Result<f64>> = per_take(&set.takes, |_, take| {
+    let per: Vec<Result<f64>> = crate::parallel::map(&set.takes, |_, take| {
         Ok(filter.log_likelihood(&take.epochs, take_start(take)?))
     });
     // Summed in take order, so the total does not depend on the threads.
@@ -419,13 +383,23 @@ pub fn fit_samples(
     fit_samples_tested(base, samples, set, cfg).map(|(m, _)| m)
 }
 
-/// [`fit_samples`], with the held-out test of the model extensions.
+/// What a fit decided besides the model.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct FitDetails {
+    /// The held-out test of the model extensions (when run).
+    pub extension_test: Option<ExtensionTest>,
+    /// The smoothness penalties (least squares).
+    pub smoothing: Option<FitSmoothing>,
+}
+
+/// [`fit_samples`], with the held-out test of the model extensions and the
+/// smoothing chosen.
 pub fn fit_samples_tested(
     base: &Coefficients<f64>,
     samples: &[Sample],
     set: &RecordingSet,
     cfg: &FitConfig,
-) -> Result<(Coefficients<f64>, Option<ExtensionTest>)> {
+) -> Result<(Coefficients<f64>, FitDetails)> {
     let ctx = FitContext {
         air_density: set.world.air_density,
         reference_length: set.object.reference_length,
@@ -443,7 +417,11 @@ pub fn fit_samples_tested(
         ),
         Method::Paper => crate::fit_paper::fit(samples, &ctx, degree),
     };
-    Ok((with_raw(base, &raw)?, raw.extension_test))
+    let details = FitDetails {
+        extension_test: raw.extension_test,
+        smoothing: raw.smoothing,
+    };
+    Ok((with_raw(base, &raw)?, details))
 }
 
 /// The next iteration's process noise: with a fitted model the unexplained
@@ -508,10 +486,10 @@ pub fn fit(set: &RecordingSet, cfg: &FitConfig, progress: &dyn Progress) -> Resu
         // errors correlate with anything, so it fits the paper's model only.
         let mut fit_cfg = cfg.clone();
         fit_cfg.lsq.extensions &= it > 0;
-        let (fitted, extension_test) = match fit_samples_tested(&base, &frames, set, &fit_cfg) {
-            Ok((m, t)) => (Some(m), t),
+        let (fitted, details) = match fit_samples_tested(&base, &frames, set, &fit_cfg) {
+            Ok((m, d)) => (Some(m), d),
             Err(e) if iterations.is_empty() => return Err(e),
-            Err(_) => (None, None),
+            Err(_) => (None, FitDetails::default()),
         };
         progress.tick();
         let nan = (f64::NAN, f64::NAN);
@@ -526,7 +504,8 @@ pub fn fit(set: &RecordingSet, cfg: &FitConfig, progress: &dyn Progress) -> Resu
             residual_dimensional: res.as_deref().map_or(nan, rms_dimensional),
             seconds: start.elapsed().as_secs_f64(),
             rejected: false,
-            extension_test,
+            extension_test: details.extension_test,
+            smoothing: details.smoothing,
         };
         if iterations.is_empty() {
             if let Some(why) = diverged(&report, set, &smoothed) {
@@ -676,24 +655,4 @@ fn fill_provenance(
             .map_err(|_| Error::Data("coverage grid size".into()))?;
     }
     Ok(())
-}
-
-#[cfg(test)]
-mod tests {
-    use super::per_take;
-
-    #[test]
-    fn per_take_keeps_index_order_whatever_the_threads() {
-        // Uneven work so that the threads finish out of order.
-        let items: Vec<usize> = (0..40).map(|i| 3 * i).collect();
-        let out = per_take(&items, |i, x| {
-            std::thread::sleep(std::time::Duration::from_micros(
-                ((i * 7919) % 13) as u64 * 50,
-            ));
-            (i, x * x)
-        });
-        assert_eq!(out, (0..40).map(|i| (i, 9 * i * i)).collect::<Vec<_>>());
-        assert!(per_take(&[] as &[usize], |_, x| *x).is_empty());
-        assert_eq!(per_take(&[5], |i, x| i + x), vec![5]);
-    }
 }

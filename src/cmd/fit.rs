@@ -34,8 +34,8 @@ pub struct FitArgs {
     #[arg(long, value_enum, default_value_t = MethodArg::Lsq)]
     pub method: MethodArg,
     /// Refinement iterations (filter + fit rounds, §6). Each further round
-    /// still improves a well-observed set's C_F (openbox-clean: 8.1 % at 3,
-    /// 6.2 % at 8, 6.0 % at 10; about a second per round, see
+    /// still improves a well-observed set's C_F (openbox-clean: 7.3 % at 3,
+    /// 6.5 % at 4, 6.0 % at 5, 5.6 % at 8; about 1.3 s per round, see
     /// BENCHMARKS.md); a round that fits worse is rejected and stops the
     /// refinement.
     #[arg(long, default_value_t = 3)]
@@ -154,8 +154,14 @@ fn summary(o: &FitOutcome, a: &FitArgs, total: f64) {
         } else {
             ""
         };
+        let smoothing = r.smoothing.map_or(String::new(), |s| {
+            format!(
+                "; smoothing force {:.0e} order {}, torque {:.0e} order {}",
+                s.force.weight, s.force.order, s.torque.weight, s.torque.order
+            )
+        });
         println!(
-            "iteration {}: residual force {:.4}, torque {:.4} ({:.2} s){note}",
+            "iteration {}: residual force {:.4}, torque {:.4} ({:.2} s){smoothing}{note}",
             i + 1,
             r.residual.0,
             r.residual.1,
@@ -210,6 +216,10 @@ fn report(o: &FitOutcome, loaded: f64, total: f64) -> serde_json::Value {
                 "empty_frames": r.filter.empty_frames, "filter_restarts": r.filter.restarts,
                 "mirror_switches": r.filter.mirror_switches,
                 "rejected": r.rejected, "seconds": r.seconds,
+                "smoothing": r.smoothing.map(|s| json!({
+                    "force": { "weight": s.force.weight, "order": s.force.order },
+                    "torque": { "weight": s.torque.weight, "order": s.torque.order },
+                })),
                 "extension_test": r.extension_test.map(|t| json!({
                     "kept": { "spin_coupling": t.kept.spin, "gravity_coupling": t.kept.gravity },
                     "held_out_force_rms_n": {
