@@ -31,6 +31,7 @@ mod mirror;
 mod smoother;
 
 use smoother::smooth;
+pub use smoother::Posterior;
 
 /// Consecutive fully-gated frames after which gating is suspended once.
 pub const LOST_FRAMES: usize = 3;
@@ -139,6 +140,10 @@ pub struct Smoothed {
     /// eqs. (9)-(10) difference (see `smoother::velocity_difference_cov`); zero at
     /// the first and last epoch. Empty: unknown (e.g. true states).
     pub velocity_difference_cov: Vec<Matrix3<f64>>,
+    /// Per epoch: the smoothed covariance of the body-frame velocity
+    /// `V = Rᵀv` ((m/s)²; from those of the attitude and the velocity).
+    /// Empty: unknown.
+    pub body_velocity_cov: Vec<Matrix3<f64>>,
     /// Counts.
     pub stats: FilterStats,
 }
@@ -176,7 +181,12 @@ impl Filter<'_> {
     /// the counts are those of the last pass.
     pub fn run(&self, epochs: &[Epoch], initial: State<f64>) -> Smoothed {
         let mut start = FilterState::new(initial);
-        let mut result = (Vec::new(), Vec::new(), FilterStats::default(), Vec::new());
+        let mut result = (
+            Vec::new(),
+            Posterior::default(),
+            FilterStats::default(),
+            Vec::new(),
+        );
         for _ in 0..self.config.passes.max(1) {
             let mut stats = FilterStats::default();
             let steps = self.forward(epochs, start, &mut stats);
@@ -198,7 +208,8 @@ impl Filter<'_> {
             times: epochs.iter().map(|e| e.t).collect(),
             states: smoothed.into_iter().map(|s| s.body).collect(),
             cuts: switched,
-            velocity_difference_cov: dv,
+            velocity_difference_cov: dv.velocity_difference,
+            body_velocity_cov: dv.body_velocity,
             stats,
         }
     }
@@ -224,7 +235,13 @@ impl Filter<'_> {
         let ((smoothed, dv), stats) = self.relinearise(
             epochs,
             FilterState::new(initial),
-            (reference, previous.velocity_difference_cov.clone()),
+            (
+                reference,
+                Posterior {
+                    velocity_difference: previous.velocity_difference_cov.clone(),
+                    body_velocity: previous.body_velocity_cov.clone(),
+                },
+            ),
             &previous.cuts,
             previous.stats,
             self.config.relinearise.max(1),
@@ -233,7 +250,8 @@ impl Filter<'_> {
             times: epochs.iter().map(|e| e.t).collect(),
             states: smoothed.into_iter().map(|s| s.body).collect(),
             cuts: previous.cuts.clone(),
-            velocity_difference_cov: dv,
+            velocity_difference_cov: dv.velocity_difference,
+            body_velocity_cov: dv.body_velocity,
             stats,
         }
     }

@@ -472,7 +472,10 @@ pub fn fit(set: &RecordingSet, cfg: &FitConfig, progress: &dyn Progress) -> Resu
         }
         let smoothed = reconstruct(set, &model, noise, &filter, progress)?;
         let mut fstats = ForceStats::default();
-        let frames = samples(set, &smoothed, &mut fstats);
+        let mut frames = samples(set, &smoothed, &mut fstats);
+        // With a model, the velocity's error spreads the frame's residual
+        // too (nothing in the first iteration: the zero model has no slope).
+        add_velocity_spread(&mut frames, &smoothed, &model, set.world.air_density);
         if !frames.iter().any(|s| s.use_force) {
             return Err(Error::Data(
                 "no usable frames: every frame failed the stability tests".into(),
@@ -540,6 +543,44 @@ pub fn fit(set: &RecordingSet, cfg: &FitConfig, progress: &dyn Progress) -> Resu
         reconstruction,
         samples,
     })
+}
+
+/// Adds to each frame's force covariance the spread of the model's force
+/// that the uncertainty of its body-frame velocity causes, `J Σ_V Jᵀ`
+/// with `J = ∂F_model/∂V` (central differences) and `Σ_V` the smoother's
+/// ([`Smoothed::body_velocity_cov`]): the fit regresses the force on the
+/// velocity, whose error makes a residual of its own (errors in
+/// variables; the effective-variance method).
+fn add_velocity_spread(
+    frames: &mut [Sample],
+    smoothed: &[Smoothed],
+    model: &Coefficients<f64>,
+    air_density: f64,
+) {
+    for s in frames {
+        let Some(cov) = smoothed
+            .get(s.take)
+            .and_then(|x| x.body_velocity_cov.get(s.index))
+        else {
+            continue;
+        };
+        let speed = s.velocity.norm();
+        if !(speed > 0.0) {
+            continue;
+        }
+        let h = 1e-4 * speed;
+        let mut j = nalgebra::Matrix3::zeros();
+        for c in 0..3 {
+            let mut e = Vector3::zeros();
+            e[c] = h;
+            let f = |v: Vector3<f64>| model.wrench(&v, &s.angular_velocity, air_density).force;
+            j.set_column(c, &((f(s.velocity + e) - f(s.velocity - e)) / (2.0 * h)));
+        }
+        let spread = j * cov * j.transpose();
+        if spread.iter().all(|v| v.is_finite()) {
+            s.force_cov += spread;
+        }
+    }
 }
 
 /// Largest non-dimensional residual of a usable first iteration: 100
@@ -655,4 +696,78 @@ fn fill_provenance(
             .map_err(|_| Error::Data("coverage grid size".into()))?;
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::recording::TakeKind;
+    use crate::synth::{truth_model, ObjectSpec, SynthObject};
+    use nalgebra::Matrix3;
+
+    fn frame(velocity: Vector3<f64>) -> Sample {
+        Sample {
+            take: 0,
+            index: 1,
+            t: 0.0,
+            kind: TakeKind::Drop,
+            velocity,
+            angular_velocity: Vector3::new(1.0, -2.0, 0.5),
+            force: Vector3::zeros(),
+            torque: Vector3::zeros(),
+            gravity_body: Vector3::new(0.0, 0.0, -9.81),
+            force_cov: Matrix3::identity() * 1e-4,
+            use_force: true,
+            use_torque: true,
+        }
+    }
+
+    #[test]
+    fn velocity_spread_is_the_models_slope_times_the_velocity_covariance() {
+        let model = truth_model(&ObjectSpec::of(SynthObject::Box), 6).expect("model");
+        let cov = Matrix3::new(4e-4, 1e-4, 0.0, 1e-4, 9e-4, -2e-4, 0.0, -2e-4, 1e-3);
+        let smoothed = vec![Smoothed {
+            times: vec![0.0; 3],
+            states: Vec::new(),
+            cuts: Vec::new(),
+            velocity_difference_cov: Vec::new(),
+            body_velocity_cov: vec![Matrix3::zeros(), cov, Matrix3::zeros()],
+            stats: FilterStats::default(),
+        }];
+        let v = Vector3::new(1.0, -3.0, 2.0);
+        let mut frames = vec![frame(v)];
+        add_velocity_spread(&mut frames, &smoothed, &model, 1.2);
+        // The slope by a coarser difference than the function's own.
+        let f = |v: Vector3<f64>| model.wrench(&v, &Vector3::new(1.0, -2.0, 0.5), 1.2).force;
+        let h = 1e-3;
+        let j = Matrix3::from_columns(&[0, 1, 2].map(|c| {
+            let e = Vector3::ith(c, h);
+            (f(v + e) - f(v - e)) / (2.0 * h)
+        }));
+        let expected = Matrix3::identity() * 1e-4 + j * cov * j.transpose();
+        let got = frames.first().map(|s| s.force_cov).unwrap_or_default();
+        assert!(
+            (got - expected).norm() < 1e-4 * expected.norm(),
+            "{got} vs {expected}"
+        );
+        assert!(j.norm() > 0.0);
+        // The zero model has no slope; a frame without a covariance keeps
+        // its own.
+        let zero = Coefficients::zeros(6, model.pole(), model.reference_length()).expect("zero");
+        let mut frames = vec![frame(v)];
+        add_velocity_spread(&mut frames, &smoothed, &zero, 1.2);
+        assert_eq!(
+            frames.first().map(|s| s.force_cov),
+            Some(Matrix3::identity() * 1e-4)
+        );
+        let mut frames = vec![Sample {
+            index: 7,
+            ..frame(v)
+        }];
+        add_velocity_spread(&mut frames, &smoothed, &model, 1.2);
+        assert_eq!(
+            frames.first().map(|s| s.force_cov),
+            Some(Matrix3::identity() * 1e-4)
+        );
+    }
 }

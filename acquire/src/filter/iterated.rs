@@ -12,10 +12,9 @@
 //! model's drag) are what tie the depth down, and they act through the
 //! process Jacobians, which are only right about a good trajectory.
 
-use super::{finite, smooth, Filter, Step};
+use super::{finite, smooth, Filter, Posterior, Step};
 use crate::state::{boxminus, boxplus, Cov, FilterState};
 use crate::tracks::Epoch;
-use nalgebra::Matrix3;
 
 use super::FilterStats;
 
@@ -99,11 +98,11 @@ impl Filter<'_> {
         &self,
         epochs: &[Epoch],
         initial: FilterState,
-        reference: (Vec<FilterState>, Vec<Matrix3<f64>>),
+        reference: (Vec<FilterState>, Posterior),
         switched: &[bool],
         mut stats: FilterStats,
         sweeps: usize,
-    ) -> ((Vec<FilterState>, Vec<Matrix3<f64>>), FilterStats) {
+    ) -> ((Vec<FilterState>, Posterior), FilterStats) {
         let (mut smoothed, mut dv) = reference;
         for _ in 0..sweeps {
             let mut s = FilterStats {

@@ -5,16 +5,26 @@ use super::Step;
 use crate::state::{boxminus, boxplus, Cov, FilterState};
 use nalgebra::Matrix3;
 
-/// Rauch-Tung-Striebel backward pass in error-state form; also returns
-/// [`velocity_difference_cov`] of the smoothed trajectory.
-pub(super) fn smooth(steps: &[Step]) -> (Vec<FilterState>, Vec<Matrix3<f64>>) {
+/// Posterior covariances of a smoothed take that the force fit needs, per
+/// epoch.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Posterior {
+    /// [`velocity_difference_cov`], world frame, (m/s)².
+    pub velocity_difference: Vec<Matrix3<f64>>,
+    /// [`body_velocity_cov`], (m/s)².
+    pub body_velocity: Vec<Matrix3<f64>>,
+}
+
+/// Rauch-Tung-Striebel backward pass in error-state form; also returns the
+/// [`Posterior`] covariances of the smoothed trajectory.
+pub(super) fn smooth(steps: &[Step]) -> (Vec<FilterState>, Posterior) {
     let n = steps.len();
     let mut out: Vec<FilterState> = steps.iter().map(|s| s.filtered).collect();
     // Smoothed covariances and gains `G_k` (None: epoch k+1 not linked).
     let mut covs: Vec<Cov> = steps.iter().map(|s| s.filtered_cov).collect();
     let mut gains: Vec<Option<Cov>> = vec![None; n];
     let Some(last) = steps.last() else {
-        return (out, Vec::new());
+        return (out, Posterior::default());
     };
     let mut next_cov = last.filtered_cov;
     for k in (0..n.saturating_sub(1)).rev() {
@@ -42,7 +52,32 @@ pub(super) fn smooth(steps: &[Step]) -> (Vec<FilterState>, Vec<Matrix3<f64>>) {
             *g = Some(gain);
         }
     }
-    (out, velocity_difference_cov(&covs, &gains))
+    let body_velocity = out
+        .iter()
+        .zip(&covs)
+        .map(|(x, p)| body_velocity_cov(x, p))
+        .collect();
+    let posterior = Posterior {
+        velocity_difference: velocity_difference_cov(&covs, &gains),
+        body_velocity,
+    };
+    (out, posterior)
+}
+
+/// The covariance of the body-frame velocity `V = Rᵀv` of state `x` with
+/// error-state covariance `p`: with `R' = R exp([δθ]×)`,
+/// `δV = Rᵀδv + [V]× δθ`.
+fn body_velocity_cov(x: &FilterState, p: &Cov) -> Matrix3<f64> {
+    const THETA: usize = 3;
+    let r = x.body.orientation.to_rotation_matrix().into_inner();
+    let v = r.transpose() * x.body.velocity;
+    let mut a = nalgebra::SMatrix::<f64, 3, 6>::zeros();
+    a.fixed_view_mut::<3, 3>(0, 0)
+        .copy_from(&crate::measurement::skew(&v));
+    a.fixed_view_mut::<3, 3>(0, 3).copy_from(&r.transpose());
+    let block = p.fixed_view::<6, 6>(THETA, THETA).into_owned();
+    let c = a * block * a.transpose();
+    0.5 * (c + c.transpose())
 }
 
 /// Per epoch k, the posterior covariance of `v_{k+1} - v_{k-1}` (world
@@ -75,6 +110,43 @@ fn velocity_difference_cov(covs: &[Cov], gains: &[Option<Cov>]) -> Vec<Matrix3<f
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn body_velocity_cov_matches_finite_differences() {
+        use crate::state::{boxplus, Delta};
+        let x = FilterState::new(omniad_core::State {
+            position: nalgebra::Vector3::new(0.1, -0.2, 3.0),
+            orientation: nalgebra::UnitQuaternion::from_euler_angles(0.4, -0.3, 1.1),
+            velocity: nalgebra::Vector3::new(1.5, -0.5, -4.0),
+            angular_velocity: nalgebra::Vector3::new(2.0, 0.0, -1.0),
+        });
+        let body = |s: &FilterState| {
+            s.body
+                .orientation
+                .inverse_transform_vector(&s.body.velocity)
+        };
+        // A unit variance in one error component gives the outer product of
+        // that component's column of ∂V/∂δ.
+        for i in 3..9 {
+            let mut p = Cov::zeros();
+            p[(i, i)] = 1.0;
+            let mut d = Delta::zeros();
+            d[i] = 1e-6;
+            let column = (body(&boxplus(&x, &d)) - body(&x)) / 1e-6;
+            let expected = column * column.transpose();
+            let got = body_velocity_cov(&x, &p);
+            assert!(
+                (got - expected).norm() < 1e-5 * (1.0 + expected.norm()),
+                "component {i}: {got} vs {expected}"
+            );
+        }
+        // Position, angular velocity and the unexplained wrench do not move V.
+        let mut p = Cov::zeros();
+        for i in (0..3).chain(9..18) {
+            p[(i, i)] = 1.0;
+        }
+        assert_eq!(body_velocity_cov(&x, &p), Matrix3::zeros());
+    }
 
     #[test]
     fn velocity_difference_cov_uses_the_cross_covariance() {
