@@ -565,7 +565,7 @@ fn add_velocity_spread(
             continue;
         };
         let speed = s.velocity.norm();
-        if !(speed > 0.0) {
+        if speed.is_nan() || speed <= 0.0 {
             continue;
         }
         let h = 1e-4 * speed;
