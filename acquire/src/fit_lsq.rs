@@ -7,8 +7,10 @@
 //! its reconstruction uncertainty (generalised least squares, see
 //! `force_weights`) — and
 //! `T_k = Σ_i E^i_k q_k L³ Σ_lm β^i_lm Y_lm(E_k) - ½ρL⁵ |Ω_k| D Ω_k` (eqs. 6, 8),
-//! one joint problem in (β, D). Smoothness: Tikhonov on the Dirichlet energy
-//! `Σ l(l+1) c_lm²`, scaled by the data. D is projected onto positive definite
+//! one joint problem in (β, D). Smoothness: Tikhonov on a Sobolev-type norm
+//! `Σ l(l+1) (l(l+1)/(N(N+1)))^(p-1) c_lm²` scaled by the data, its weight
+//! and order `p` chosen for each of the two problems by leave-one-take-out
+//! cross-validation ([`crate::fit_cv`]). D is projected onto positive definite
 //! matrices and β refitted; `C_F(E)·E < 0` (no thrust, §5) is enforced on a
 //! dense direction grid by penalty rows.
 
@@ -26,9 +28,9 @@ pub struct LsqConfig {
     /// SH degree N.
     pub degree: usize,
     /// Smoothing weight relative to the mean data weight per coefficient
-    /// (dimensionless; default 1e-3). The force fit chooses its own by
-    /// cross-validation when `cross_validate` is set and there are enough
-    /// takes (see [`crate::fit_cv`]).
+    /// (dimensionless; default 1e-3). The force and torque fits choose
+    /// their own by cross-validation when `cross_validate` is set and there
+    /// are enough takes (see [`crate::fit_cv`]).
     pub smoothing: f64,
     /// Order `p` of the force fit's smoothness penalty: SH degree `l` is
     /// penalised by `l(l+1) (l(l+1)/(N(N+1)))^(p-1)`, a Sobolev-type norm
@@ -38,9 +40,10 @@ pub struct LsqConfig {
     /// the highest degrees down harder, where the reconstruction's noise
     /// would otherwise go. `None` (default): cross-validation chooses it
     /// among [`SMOOTHNESS_ORDERS`] together with the weight (order 2 without
-    /// cross-validation). The torque fit uses order 1.
+    /// cross-validation). The torque fit always chooses among all orders
+    /// (order 1 without cross-validation).
     pub smoothness_order: Option<u32>,
-    /// Choose the force fit's smoothing weight by leave-one-take-out
+    /// Choose the force and torque fits' smoothing by leave-one-take-out
     /// cross-validation (default true).
     pub cross_validate: bool,
     /// Fit the model extensions (spin coupling, gravity coupling) and
@@ -349,10 +352,24 @@ pub fn force_smoothing(samples: &[Sample], ctx: &FitContext, cfg: &LsqConfig) ->
     // C_F was worse on 7 of 9 sets (plate-mujoco 14.42 % vs 11.81 %;
     // BENCHMARKS.md stop 11).
     let held_out = &takes;
-    let scale = data_scale(&total.ata, 3 * coeff_count(cfg.degree));
     let orders = cfg
         .smoothness_order
         .map_or(SMOOTHNESS_ORDERS.to_vec(), |p| vec![p]);
+    cross_validated(&takes, held_out, &total, &orders, fallback, cfg.degree)
+}
+
+/// The penalty of [`crate::fit_cv::SMOOTHING_GRID`] x `orders` whose fits
+/// without each take predict that take best, on unknowns whose first three
+/// blocks are SH coefficients.
+fn cross_validated(
+    takes: &[Normals],
+    held_out: &[Normals],
+    total: &Normals,
+    orders: &[u32],
+    fallback: Smoothing,
+    degree: usize,
+) -> Smoothing {
+    let scale = data_scale(&total.ata, 3 * coeff_count(degree));
     let candidates: Vec<Smoothing> = orders
         .iter()
         .flat_map(|&order| {
@@ -361,8 +378,8 @@ pub fn force_smoothing(samples: &[Sample], ctx: &FitContext, cfg: &LsqConfig) ->
                 .map(move |&weight| Smoothing { weight, order })
         })
         .collect();
-    crate::fit_cv::choose(&takes, held_out, &total, &candidates, fallback, |m, p| {
-        regularise_scaled(m, 3, cfg.degree, p, scale);
+    crate::fit_cv::choose(takes, held_out, total, &candidates, fallback, |m, p| {
+        regularise_scaled(m, 3, degree, p, scale);
     })
 }
 
@@ -459,14 +476,20 @@ fn torque_normals(samples: &[Sample], ctx: &FitContext, degree: usize) -> (Vec<N
     (takes, total)
 }
 
-/// The torque fit's smoothness penalty on beta: `cfg.smoothing` of order 1
-/// (the Dirichlet energy), or, when `cfg.cross_validate`, the weight and
+/// The torque fit's smoothness penalty on beta: `cfg.smoothing` of order
+/// 1 (the Dirichlet energy), or, when `cfg.cross_validate`, the weight and
 /// order of [`crate::fit_cv::SMOOTHING_GRID`] x [`SMOOTHNESS_ORDERS`] that
 /// predicts held-out takes' torques best. (The torque model steers the
 /// reconstructed attitude, and through it the direction E every force
 /// frame is filed under: openbox-clean's C_F went from 7.74 % to 7.35 %
 /// with a ten times heavier fixed weight, see BENCHMARKS.md.)
 pub fn torque_smoothing(samples: &[Sample], ctx: &FitContext, cfg: &LsqConfig) -> Smoothing {
+    let (takes, total) = torque_normals(samples, ctx, cfg.degree);
+    torque_penalty(&takes, &total, cfg)
+}
+
+/// [`torque_smoothing`] from the torque fit's normal equations.
+fn torque_penalty(takes: &[Normals], total: &Normals, cfg: &LsqConfig) -> Smoothing {
     let fallback = Smoothing {
         weight: cfg.smoothing,
         order: 1,
@@ -474,28 +497,14 @@ pub fn torque_smoothing(samples: &[Sample], ctx: &FitContext, cfg: &LsqConfig) -
     if !cfg.cross_validate {
         return fallback;
     }
-    let (takes, total) = torque_normals(samples, ctx, cfg.degree);
-    torque_choice(&takes, &total, cfg, fallback)
-}
-
-fn torque_choice(
-    takes: &[Normals],
-    total: &Normals,
-    cfg: &LsqConfig,
-    fallback: Smoothing,
-) -> Smoothing {
-    let scale = data_scale(&total.ata, 3 * coeff_count(cfg.degree));
-    let candidates: Vec<Smoothing> = SMOOTHNESS_ORDERS
-        .iter()
-        .flat_map(|&order| {
-            crate::fit_cv::SMOOTHING_GRID
-                .iter()
-                .map(move |&weight| Smoothing { weight, order })
-        })
-        .collect();
-    crate::fit_cv::choose(takes, takes, total, &candidates, fallback, |m, p| {
-        regularise_scaled(m, 3, cfg.degree, p, scale);
-    })
+    cross_validated(
+        takes,
+        takes,
+        total,
+        &SMOOTHNESS_ORDERS,
+        fallback,
+        cfg.degree,
+    )
 }
 
 /// Fits beta and D jointly on the frames that pass both stability tests;
@@ -506,21 +515,9 @@ pub fn fit_torque(
     cfg: &LsqConfig,
 ) -> ([Vec<f64>; 3], [f64; 6], Smoothing) {
     let n = coeff_count(cfg.degree);
-    let (takes, Normals { mut ata, atb, .. }) = torque_normals(samples, ctx, cfg.degree);
-    let fallback = Smoothing {
-        weight: cfg.smoothing,
-        order: 1,
-    };
-    let smoothing = if cfg.cross_validate {
-        let total = Normals {
-            ata: ata.clone(),
-            atb: atb.clone(),
-            btb: 0.0,
-        };
-        torque_choice(&takes, &total, cfg, fallback)
-    } else {
-        fallback
-    };
+    let (takes, total) = torque_normals(samples, ctx, cfg.degree);
+    let smoothing = torque_penalty(&takes, &total, cfg);
+    let Normals { mut ata, atb, .. } = total;
     regularise(&mut ata, 3, cfg.degree, smoothing);
     let x = solve(&ata, &atb);
     let raw: [f64; 6] = std::array::from_fn(|i| x[3 * n + i]);
