@@ -22,8 +22,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let truth_states = true_trajectories(dir, &set)?;
     let mut st = ForceStats::default();
     let tframes = pipeline::samples(&set, &truth_states, &mut st);
-    let tmap: HashMap<(usize, usize), Sample> =
-        tframes.iter().map(|s| ((s.take, s.index), *s)).collect();
+    let tmap = by_frame(&tframes);
     let truth = read_coefficients(&dir.join("truth/coefficients.csv"))?;
     let base = zero_model(&set.object, cfg.degree)?;
     let dirs = fitted_directions(&tframes);
@@ -35,39 +34,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     };
     report("reconstructed", &out.samples)?;
     report("truth", &tframes)?;
-    let mix = |f: &dyn Fn(&Sample, &Sample) -> Sample| -> Vec<Sample> {
-        out.samples
-            .iter()
-            .filter_map(|s| tmap.get(&(s.take, s.index)).map(|t| f(s, t)))
-            .collect()
-    };
-    report(
-        "rec force, true V/Ω",
-        &mix(&|s, t| Sample {
-            velocity: t.velocity,
-            angular_velocity: t.angular_velocity,
-            gravity_body: t.gravity_body,
-            ..*s
-        }),
-    )?;
-    report(
-        "true force, rec V/Ω",
-        &mix(&|s, t| Sample {
-            force: t.force,
-            torque: t.torque,
-            ..*s
-        }),
-    )?;
+    let mix = |f: fn(&Sample, &Sample) -> Sample| paired(&out.samples, &tmap, f);
+    report("rec force, true V/Ω", &mix(their_velocities))?;
+    report("true force, rec V/Ω", &mix(their_forces))?;
     report(
         "true all, rec flags/cov",
-        &mix(&|s, t| Sample {
-            force: t.force,
-            torque: t.torque,
-            velocity: t.velocity,
-            angular_velocity: t.angular_velocity,
-            gravity_body: t.gravity_body,
-            ..*s
-        }),
+        &mix(|s, t| their_forces(&their_velocities(s, t), t)),
     )?;
     let lens: HashMap<usize, usize> = set
         .takes
@@ -129,30 +101,16 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     }
     // Which part of those two reconstructions carries the model's pull.
     if let [with_final, with_true, ..] = recs.as_slice() {
-        let key: HashMap<(usize, usize), Sample> =
-            with_true.iter().map(|s| ((s.take, s.index), *s)).collect();
-        let swap = |f: &dyn Fn(&Sample, &Sample) -> Sample| -> Vec<Sample> {
-            with_final
-                .iter()
-                .filter_map(|s| key.get(&(s.take, s.index)).map(|t| f(s, t)))
-                .collect()
-        };
+        let key = by_frame(with_true);
         report(
             "final-model forces, true-state-model V/Ω",
-            &swap(&|s, t| Sample {
-                velocity: t.velocity,
-                angular_velocity: t.angular_velocity,
-                gravity_body: t.gravity_body,
-                ..*s
-            }),
+            &paired(with_final, &key, their_velocities),
         )?;
         report(
             "true-state-model forces, final-model V/Ω",
-            &swap(&|s, t| Sample {
-                force: t.force,
-                torque: t.torque,
+            &paired(with_final, &key, |s, t| Sample {
                 force_cov: t.force_cov,
-                ..*s
+                ..their_forces(s, t)
             }),
         )?;
     }
@@ -200,4 +158,39 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         );
     }
     Ok(())
+}
+
+/// Frames by (take, epoch).
+fn by_frame(frames: &[Sample]) -> HashMap<(usize, usize), Sample> {
+    frames.iter().map(|s| ((s.take, s.index), *s)).collect()
+}
+
+/// `f(frame, its twin in other)` for every frame of `base` with a twin.
+fn paired(
+    base: &[Sample],
+    other: &HashMap<(usize, usize), Sample>,
+    f: fn(&Sample, &Sample) -> Sample,
+) -> Vec<Sample> {
+    base.iter()
+        .filter_map(|s| other.get(&(s.take, s.index)).map(|t| f(s, t)))
+        .collect()
+}
+
+/// `s` with `t`'s velocities (and so its directions E).
+fn their_velocities(s: &Sample, t: &Sample) -> Sample {
+    Sample {
+        velocity: t.velocity,
+        angular_velocity: t.angular_velocity,
+        gravity_body: t.gravity_body,
+        ..*s
+    }
+}
+
+/// `s` with `t`'s force and torque (and `s`'s covariance of them).
+fn their_forces(s: &Sample, t: &Sample) -> Sample {
+    Sample {
+        force: t.force,
+        torque: t.torque,
+        ..*s
+    }
 }
