@@ -20,8 +20,8 @@
 
 use crate::fit_cv::Normals;
 use crate::fit_lsq::{
-    enforce_no_thrust, fit_force_smoothed, force_frames, force_row, force_smoothing, force_weights,
-    normals_with, regularise, sh_and_basis, FitContext, ForceRow, LsqConfig, Smoothing,
+    enforce_no_thrust, fit_force_smoothed, force_frames, force_row, force_weights, normals_with,
+    regularise, sh_and_basis, FitContext, ForceRow, LsqConfig, Smoothing,
 };
 use crate::forces::Sample;
 use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
@@ -325,8 +325,7 @@ pub(crate) fn fit_force_and_extensions(
     ctx: &FitContext,
     cfg: &LsqConfig,
 ) -> ForceFit {
-    let smoothing = force_smoothing(samples, ctx, cfg);
-    let plain = fit_force_smoothed(samples, ctx, cfg, smoothing);
+    let (plain, smoothing) = fit_force_smoothed(samples, ctx, cfg);
     let none = |alpha, test| ForceFit {
         alpha,
         spin: None,

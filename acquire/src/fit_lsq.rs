@@ -337,6 +337,12 @@ pub(crate) fn normals_with(
 /// `cfg.smoothness_order`, or the cross-validated choice ([`crate::fit_cv`])
 /// of weight (and order, when not given) when `cfg.cross_validate`.
 pub fn force_smoothing(samples: &[Sample], ctx: &FitContext, cfg: &LsqConfig) -> Smoothing {
+    let (takes, total) = force_normals(samples, ctx, cfg.degree);
+    force_penalty(&takes, &total, cfg)
+}
+
+/// [`force_smoothing`] from the force fit's normal equations.
+fn force_penalty(takes: &[Normals], total: &Normals, cfg: &LsqConfig) -> Smoothing {
     let fallback = Smoothing {
         weight: cfg.smoothing,
         order: cfg.smoothness_order.unwrap_or(DEFAULT_SMOOTHNESS_ORDER),
@@ -344,18 +350,17 @@ pub fn force_smoothing(samples: &[Sample], ctx: &FitContext, cfg: &LsqConfig) ->
     if !cfg.cross_validate {
         return fallback;
     }
-    let (takes, total) = force_normals(samples, ctx, cfg.degree);
     // Held-out takes are scored with the fit's own weights, i.e. by their
     // likelihood under the smoother's covariance (the weights are nearly
     // its inverse): the poorly observed line-of-sight components would
     // otherwise dominate the score with noise. Scored unweighted instead,
     // C_F was worse on 7 of 9 sets (plate-mujoco 14.42 % vs 11.81 %;
     // BENCHMARKS.md stop 11).
-    let held_out = &takes;
+    let held_out = takes;
     let orders = cfg
         .smoothness_order
         .map_or(SMOOTHNESS_ORDERS.to_vec(), |p| vec![p]);
-    cross_validated(&takes, held_out, &total, &orders, fallback, cfg.degree)
+    cross_validated(takes, held_out, total, &orders, fallback, cfg.degree)
 }
 
 /// The penalty of [`crate::fit_cv::SMOOTHING_GRID`] x `orders` whose fits
@@ -385,21 +390,24 @@ fn cross_validated(
 
 /// Fits alpha (force), enforcing no thrust.
 pub fn fit_force(samples: &[Sample], ctx: &FitContext, cfg: &LsqConfig) -> [Vec<f64>; 3] {
-    fit_force_smoothed(samples, ctx, cfg, force_smoothing(samples, ctx, cfg))
+    fit_force_smoothed(samples, ctx, cfg).0
 }
 
-/// [`fit_force`] with a given smoothness penalty.
+/// [`fit_force`], also returning the smoothness penalty used
+/// ([`force_smoothing`]); the normal equations are built once for both.
 pub(crate) fn fit_force_smoothed(
     samples: &[Sample],
     ctx: &FitContext,
     cfg: &LsqConfig,
-    smoothing: Smoothing,
-) -> [Vec<f64>; 3] {
-    let (_, Normals { mut ata, atb, .. }) = force_normals(samples, ctx, cfg.degree);
+) -> ([Vec<f64>; 3], Smoothing) {
+    let (takes, total) = force_normals(samples, ctx, cfg.degree);
+    let smoothing = force_penalty(&takes, &total, cfg);
+    let Normals { mut ata, atb, .. } = total;
     regularise(&mut ata, 3, cfg.degree, smoothing);
     let x = enforce_no_thrust(ata, atb, cfg);
     let n = coeff_count(cfg.degree);
-    std::array::from_fn(|i| x.get(i * n..(i + 1) * n).unwrap_or(&[]).to_vec())
+    let alpha = std::array::from_fn(|i| x.get(i * n..(i + 1) * n).unwrap_or(&[]).to_vec());
+    (alpha, smoothing)
 }
 
 /// Solves for alpha (the first `coeff_count` unknowns are alpha^1) and adds
