@@ -4,7 +4,9 @@
 //! floor), `MIRROR_WINDOW`, `XR` (a fixed smoothing weight instead of the
 //! cross-validated one), `RELIN` (`filter.relinearise`),
 //! `RELIN_ITS` (`relinearised_iterations`), `EXTENSIONS=off` (the paper's
-//! model only), `DEG` (SH degree), `ORDER` (`lsq.smoothness_order`).
+//! model only), `DEG` (SH degree), `ORDER` (`lsq.smoothness_order`),
+//! `PERTAKE` (per-take errors of the last iteration too), `DUMP=FILE` (the
+//! true and fitted C_F at every truth grid direction, as CSV).
 
 use omniad_acquire::pipeline::{self, FitConfig, Method, Silent};
 use omniad_acquire::recording::RecordingSet;
@@ -94,7 +96,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         for (take, s) in set.takes.iter().zip(states.iter()) {
             let truth = read_states(&dir.join("truth").join(format!("{}.csv", take.name)))?;
             let e = state_error(s, &truth);
-            if label == "final-model" {
+            if label == "final-model" || std::env::var("PERTAKE").is_ok() {
                 println!(
                     "  {}: pos {:.2} cm, angle {:.2} deg",
                     take.name,
@@ -125,6 +127,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         );
     }
     scale_check(&out.model, &truth, &dirs);
+    if let Ok(path) = std::env::var("DUMP") {
+        std::fs::write(path, directions_csv(&out.model, &truth, &dirs))?;
+    }
     let ctx = omniad_acquire::fit_lsq::FitContext {
         air_density: set.world.air_density,
         reference_length: set.object.reference_length,
@@ -169,4 +174,28 @@ fn scale_check(
         "  C_F best overall scale {s:.4}, error after it {:.2} %",
         (left / tt).sqrt() * 100.0
     );
+}
+
+/// Every truth grid direction with the true and fitted C_F and the number
+/// of fitted frames within 15 degrees (the acceptance metric's count), as
+/// CSV `ex,ey,ez,tx,ty,tz,fx,fy,fz,n`.
+fn directions_csv(
+    model: &omniad_core::Coefficients<f64>,
+    truth: &[[nalgebra::Vector3<f64>; 3]],
+    dirs: &[nalgebra::Vector3<f64>],
+) -> String {
+    let cos = 15f64.to_radians().cos();
+    let mut w = String::from("ex,ey,ez,tx,ty,tz,fx,fy,fz,n\n");
+    for [e, cf, _] in truth {
+        let e = e.normalize();
+        let n = dirs.iter().filter(|d| d.dot(&e) >= cos).count();
+        if let Some(c) = model.at_direction(&e) {
+            let f = c.force;
+            w += &format!(
+                "{},{},{},{},{},{},{},{},{},{n}\n",
+                e.x, e.y, e.z, cf.x, cf.y, cf.z, f.x, f.y, f.z
+            );
+        }
+    }
+    w
 }

@@ -23,13 +23,14 @@ use crate::process::Process;
 use crate::recording::Object;
 use crate::state::{boxminus, boxplus, Cov, Delta, FilterState};
 use crate::tracks::{Epoch, MarkerSighting, Observation};
-use nalgebra::{Matrix3, SMatrix, Vector3};
+use nalgebra::{Matrix3, Matrix6, SMatrix, Vector3};
 use omniad_core::State;
 
 mod iterated;
 mod mirror;
 mod smoother;
 
+pub use smoother::body_velocity_cov;
 use smoother::smooth;
 pub use smoother::Posterior;
 
@@ -144,6 +145,11 @@ pub struct Smoothed {
     /// `V = Rᵀv` ((m/s)²; from those of the attitude and the velocity).
     /// Empty: unknown.
     pub body_velocity_cov: Vec<Matrix3<f64>>,
+    /// Per epoch: the smoothed covariance of the attitude error (rad, body
+    /// frame) and the velocity (m/s, world frame), in that order, from
+    /// which `body_velocity_cov` is made ([`body_velocity_cov`]). Empty:
+    /// unknown.
+    pub attitude_velocity_cov: Vec<Matrix6<f64>>,
     /// Counts.
     pub stats: FilterStats,
 }
@@ -210,6 +216,7 @@ impl Filter<'_> {
             cuts: switched,
             velocity_difference_cov: dv.velocity_difference,
             body_velocity_cov: dv.body_velocity,
+            attitude_velocity_cov: dv.attitude_velocity,
             stats,
         }
     }
@@ -240,6 +247,7 @@ impl Filter<'_> {
                 Posterior {
                     velocity_difference: previous.velocity_difference_cov.clone(),
                     body_velocity: previous.body_velocity_cov.clone(),
+                    attitude_velocity: previous.attitude_velocity_cov.clone(),
                 },
             ),
             &previous.cuts,
@@ -252,6 +260,7 @@ impl Filter<'_> {
             cuts: previous.cuts.clone(),
             velocity_difference_cov: dv.velocity_difference,
             body_velocity_cov: dv.body_velocity,
+            attitude_velocity_cov: dv.attitude_velocity,
             stats,
         }
     }

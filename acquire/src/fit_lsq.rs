@@ -219,14 +219,17 @@ pub(crate) fn force_frames(samples: &[Sample]) -> Vec<&Sample> {
 /// [`force_weights`]). Small: the covariance is roughly calibrated (it
 /// over-states the error, `examples/forcenoise`), and C_F is insensitive
 /// below a few per cent (openbox-clean 6.80 / 6.78 / 6.77 % at 0.03 / 0.01
-/// / 0.001; 7.28 % at 1, 7.96 % unweighted; BENCHMARKS.md stop 11). It only
-/// keeps the weights bounded where `Σ_F` is nearly singular.
+/// / 0.001; 7.28 % at 1, 7.96 % unweighted; BENCHMARKS.md stop 11; with
+/// the markers-only covariances of stop 12, 5.91 / 5.86 / 5.84 % at 0.03 /
+/// 0.01 / 0.003, 6.07 % at 0.1). It only keeps the weights bounded where
+/// `Σ_F` is nearly singular.
 pub const UNDESCRIBED_VARIANCE: f64 = 0.01;
 
 /// Per-frame weights of the force residual (body frame), generalised least
 /// squares: `σ² (Σ_F + σ² I)⁻¹`, `Σ_F` the smoother's posterior covariance
 /// of the reconstructed force ([`Sample::force_cov`]; large along the
-/// poorly observed line of sight, §5) and `σ² I` the error it does not
+/// poorly observed line of sight, §5; in the refinement the model-free
+/// reconstruction's, plus the velocity's spread) and `σ² I` the error it does not
 /// describe, [`UNDESCRIBED_VARIANCE`] times the mean reconstruction variance
 /// `mean tr Σ_F / 3`: along an eigenvector of `Σ_F` of variance `λ` the
 /// weight is `σ²/(σ² + λ)`, in (0, 1] (no weight can blow up), nearly

@@ -28,7 +28,9 @@ pub struct Sample {
     /// extension).
     pub gravity_body: Vector3<f64>,
     /// Posterior covariance of `force` from the smoother, body frame, N²
-    /// (zero: unknown; see [`Smoothed::velocity_difference_cov`]).
+    /// (zero: unknown; see [`Smoothed::velocity_difference_cov`]). The
+    /// refinement gives its fits the model-free first reconstruction's
+    /// (`pipeline::fit`: frames are weighed by what the markers alone say).
     pub force_cov: Matrix3<f64>,
     /// Passes `F·V <= 0` (no thrust): used by every fit.
     pub use_force: bool,

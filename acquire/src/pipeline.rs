@@ -460,6 +460,9 @@ pub fn fit(set: &RecordingSet, cfg: &FitConfig, progress: &dyn Progress) -> Resu
     let mut noise = first;
     let mut iterations: Vec<IterationReport> = Vec::with_capacity(cfg.iterations);
     let mut best: Option<(Coefficients<f64>, Vec<Smoothed>, Vec<Sample>)> = None;
+    // The first, model-free reconstruction (see
+    // `with_markers_only_covariances`).
+    let mut markers_only: Option<Vec<Smoothed>> = None;
     for it in 0..cfg.iterations {
         let start = Instant::now();
         progress.stage(
@@ -472,10 +475,18 @@ pub fn fit(set: &RecordingSet, cfg: &FitConfig, progress: &dyn Progress) -> Resu
         }
         let smoothed = reconstruct(set, &model, noise, &filter, progress)?;
         let mut fstats = ForceStats::default();
-        let mut frames = samples(set, &smoothed, &mut fstats);
+        // Frames are weighed by what the markers alone say about them.
+        let weighed = markers_only
+            .as_deref()
+            .map(|first| with_markers_only_covariances(&smoothed, first));
+        let source = weighed.as_deref().unwrap_or(&smoothed);
+        let mut frames = samples(set, source, &mut fstats);
         // With a model, the velocity's error spreads the frame's residual
         // too (nothing in the first iteration: the zero model has no slope).
-        add_velocity_spread(&mut frames, &smoothed, &model, set.world.air_density);
+        add_velocity_spread(&mut frames, source, &model, set.world.air_density);
+        if markers_only.is_none() {
+            markers_only = Some(smoothed.clone());
+        }
         if !frames.iter().any(|s| s.use_force) {
             return Err(Error::Data(
                 "no usable frames: every frame failed the stability tests".into(),
@@ -543,6 +554,42 @@ pub fn fit(set: &RecordingSet, cfg: &FitConfig, progress: &dyn Progress) -> Resu
         reconstruction,
         samples,
     })
+}
+
+/// `smoothed` with the covariances of `first`, the same takes smoothed with
+/// no model (§6's first iteration), about `smoothed`'s own states: the
+/// world-frame covariance of eq. (9)'s velocity difference as it is, and
+/// the body-frame velocity's from `first`'s attitude-and-velocity blocks
+/// ([`crate::filter::body_velocity_cov`]). A take whose epochs differ in
+/// number keeps its own.
+///
+/// Why: with a model, the smoother's posterior is tight wherever the
+/// model rather than the markers fixed the state, above all the velocity
+/// along the camera's line of sight, which the markers show only through
+/// their spread. Those frames repeat the model being refined; weighed by
+/// that posterior they counted most, and the refinement confirmed its own
+/// model (through the camera's tilt the line-of-sight velocity sets |V|).
+/// Weighed by what the markers alone say, the refit can move away from it.
+fn with_markers_only_covariances(smoothed: &[Smoothed], first: &[Smoothed]) -> Vec<Smoothed> {
+    smoothed
+        .iter()
+        .zip(first)
+        .map(|(s, f)| {
+            let mut out = s.clone();
+            if f.velocity_difference_cov.len() == s.states.len()
+                && f.attitude_velocity_cov.len() == s.states.len()
+            {
+                out.velocity_difference_cov = f.velocity_difference_cov.clone();
+                out.body_velocity_cov = s
+                    .states
+                    .iter()
+                    .zip(&f.attitude_velocity_cov)
+                    .map(|(x, block)| crate::filter::body_velocity_cov(x, block))
+                    .collect();
+            }
+            out
+        })
+        .collect()
 }
 
 /// Adds to each frame's force covariance the spread of the model's force
@@ -732,6 +779,7 @@ mod tests {
             cuts: Vec::new(),
             velocity_difference_cov: Vec::new(),
             body_velocity_cov: vec![Matrix3::zeros(), cov, Matrix3::zeros()],
+            attitude_velocity_cov: Vec::new(),
             stats: FilterStats::default(),
         }];
         let v = Vector3::new(1.0, -3.0, 2.0);
@@ -769,5 +817,63 @@ mod tests {
             frames.first().map(|s| s.force_cov),
             Some(Matrix3::identity() * 1e-4)
         );
+    }
+
+    fn take(states: Vec<State<f64>>, scale: f64) -> Smoothed {
+        let n = states.len();
+        Smoothed {
+            times: (0..n).map(|k| k as f64 / 60.0).collect(),
+            states,
+            cuts: vec![false; n],
+            velocity_difference_cov: vec![Matrix3::identity() * scale; n],
+            body_velocity_cov: vec![Matrix3::identity() * 2.0 * scale; n],
+            attitude_velocity_cov: (0..n)
+                .map(|k| {
+                    let a = nalgebra::Matrix6::<f64>::from_fn(|i, j| {
+                        scale * (1.0 + (i * 6 + j + k) as f64 * 0.01)
+                    });
+                    a * a.transpose()
+                })
+                .collect(),
+            stats: FilterStats::default(),
+        }
+    }
+
+    #[test]
+    fn markers_only_covariances_are_the_first_runs_about_the_current_states() {
+        let state = |k: usize| State {
+            position: Vector3::zeros(),
+            orientation: nalgebra::UnitQuaternion::from_euler_angles(0.3 * k as f64, -0.2, 1.0),
+            velocity: Vector3::new(0.5, -0.2 * k as f64, -2.0),
+            angular_velocity: Vector3::zeros(),
+        };
+        let current = take((0..3).map(state).collect(), 1e-4);
+        // The model-free run sat elsewhere (a mirror branch, say).
+        let other = |k: usize| State {
+            orientation: nalgebra::UnitQuaternion::from_euler_angles(1.0, 0.4, -0.3 * k as f64),
+            velocity: Vector3::new(-1.0, 0.0, -1.5),
+            ..state(k)
+        };
+        let first = take((0..3).map(other).collect(), 3e-3);
+        let got = with_markers_only_covariances(
+            std::slice::from_ref(&current),
+            std::slice::from_ref(&first),
+        );
+        let got = got.first().expect("one take");
+        assert_eq!(got.states, current.states);
+        assert_eq!(got.velocity_difference_cov, first.velocity_difference_cov);
+        for k in 0..3 {
+            let expected = crate::filter::body_velocity_cov(
+                &current.states[k],
+                &first.attitude_velocity_cov[k],
+            );
+            assert_eq!(got.body_velocity_cov[k], expected);
+            // Not the first run's own (its states differ).
+            assert!((got.body_velocity_cov[k] - first.body_velocity_cov[k]).norm() > 1e-6);
+        }
+        // A take whose epochs differ in number keeps its own covariances.
+        let short = take((0..2).map(other).collect(), 3e-3);
+        let kept = with_markers_only_covariances(std::slice::from_ref(&current), &[short]);
+        assert_eq!(kept.first(), Some(&current));
     }
 }

@@ -56,6 +56,7 @@ pub fn true_trajectories(
                 cuts: Vec::new(),
                 velocity_difference_cov: Vec::new(),
                 body_velocity_cov: Vec::new(),
+                attitude_velocity_cov: Vec::new(),
                 stats: crate::filter::FilterStats::default(),
             })
         })

@@ -34,8 +34,8 @@ pub struct FitArgs {
     #[arg(long, value_enum, default_value_t = MethodArg::Lsq)]
     pub method: MethodArg,
     /// Refinement iterations (filter + fit rounds, §6). Each further round
-    /// still improves a well-observed set's C_F (openbox-clean: 6.4 % at 3,
-    /// 5.9 % at 4, 5.7 % at 5; about 1.5 s per round, see BENCHMARKS.md);
+    /// still improves a well-observed set's C_F (openbox-clean: 5.9 % at 3,
+    /// 5.4 % at 4, 5.3 % at 5; about 1.2 s per round, see BENCHMARKS.md);
     /// a round that fits worse is rejected and stops the refinement.
     #[arg(long, default_value_t = 3)]
     pub iterations: usize,

@@ -3,7 +3,7 @@
 
 use super::Step;
 use crate::state::{boxminus, boxplus, Cov, FilterState};
-use nalgebra::Matrix3;
+use nalgebra::{Matrix3, Matrix6};
 
 /// Posterior covariances of a smoothed take that the force fit needs, per
 /// epoch.
@@ -13,6 +13,10 @@ pub struct Posterior {
     pub velocity_difference: Vec<Matrix3<f64>>,
     /// [`body_velocity_cov`], (m/s)².
     pub body_velocity: Vec<Matrix3<f64>>,
+    /// The block of the attitude error (rad, body frame) and the velocity
+    /// (m/s, world frame), in that order: what [`body_velocity_cov`] is made
+    /// from.
+    pub attitude_velocity: Vec<Matrix6<f64>>,
 }
 
 /// Rauch-Tung-Striebel backward pass in error-state form; also returns the
@@ -52,30 +56,37 @@ pub(super) fn smooth(steps: &[Step]) -> (Vec<FilterState>, Posterior) {
             *g = Some(gain);
         }
     }
+    let attitude_velocity: Vec<Matrix6<f64>> = covs.iter().map(attitude_velocity_block).collect();
     let body_velocity = out
         .iter()
-        .zip(&covs)
-        .map(|(x, p)| body_velocity_cov(x, p))
+        .zip(&attitude_velocity)
+        .map(|(x, p)| body_velocity_cov(&x.body, p))
         .collect();
     let posterior = Posterior {
         velocity_difference: velocity_difference_cov(&covs, &gains),
         body_velocity,
+        attitude_velocity,
     };
     (out, posterior)
 }
 
-/// The covariance of the body-frame velocity `V = Rᵀv` of state `x` with
-/// error-state covariance `p`: with `R' = R exp([δθ]×)`,
-/// `δV = Rᵀδv + [V]× δθ`.
-fn body_velocity_cov(x: &FilterState, p: &Cov) -> Matrix3<f64> {
+/// The attitude-and-velocity block of an error-state covariance `p`
+/// (attitude error in rad, body frame; velocity in m/s, world frame).
+fn attitude_velocity_block(p: &Cov) -> Matrix6<f64> {
     const THETA: usize = 3;
-    let r = x.body.orientation.to_rotation_matrix().into_inner();
-    let v = r.transpose() * x.body.velocity;
+    p.fixed_view::<6, 6>(THETA, THETA).into_owned()
+}
+
+/// The covariance of the body-frame velocity `V = Rᵀv` of state `x` whose
+/// attitude error (body frame) and velocity (world frame) have covariance
+/// `block` ((m/s)²): with `R' = R exp([δθ]×)`, `δV = Rᵀδv + [V]× δθ`.
+pub fn body_velocity_cov(x: &omniad_core::State<f64>, block: &Matrix6<f64>) -> Matrix3<f64> {
+    let r = x.orientation.to_rotation_matrix().into_inner();
+    let v = r.transpose() * x.velocity;
     let mut a = nalgebra::SMatrix::<f64, 3, 6>::zeros();
     a.fixed_view_mut::<3, 3>(0, 0)
         .copy_from(&crate::measurement::skew(&v));
     a.fixed_view_mut::<3, 3>(0, 3).copy_from(&r.transpose());
-    let block = p.fixed_view::<6, 6>(THETA, THETA).into_owned();
     let c = a * block * a.transpose();
     0.5 * (c + c.transpose())
 }
@@ -134,7 +145,7 @@ mod tests {
             d[i] = 1e-6;
             let column = (body(&boxplus(&x, &d)) - body(&x)) / 1e-6;
             let expected = column * column.transpose();
-            let got = body_velocity_cov(&x, &p);
+            let got = body_velocity_cov(&x.body, &attitude_velocity_block(&p));
             assert!(
                 (got - expected).norm() < 1e-5 * (1.0 + expected.norm()),
                 "component {i}: {got} vs {expected}"
@@ -145,7 +156,10 @@ mod tests {
         for i in (0..3).chain(9..18) {
             p[(i, i)] = 1.0;
         }
-        assert_eq!(body_velocity_cov(&x, &p), Matrix3::zeros());
+        assert_eq!(
+            body_velocity_cov(&x.body, &attitude_velocity_block(&p)),
+            Matrix3::zeros()
+        );
     }
 
     #[test]
