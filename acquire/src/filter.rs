@@ -141,17 +141,22 @@ pub struct Smoothed {
     /// eqs. (9)-(10) difference (see `smoother::velocity_difference_cov`); zero at
     /// the first and last epoch. Empty: unknown (e.g. true states).
     pub velocity_difference_cov: Vec<Matrix3<f64>>,
-    /// Per epoch: the smoothed covariance of the body-frame velocity
-    /// `V = Rᵀv` ((m/s)²; from those of the attitude and the velocity).
-    /// Empty: unknown.
-    pub body_velocity_cov: Vec<Matrix3<f64>>,
     /// Per epoch: the smoothed covariance of the attitude error (rad, body
     /// frame) and the velocity (m/s, world frame), in that order, from
-    /// which `body_velocity_cov` is made ([`body_velocity_cov`]). Empty:
-    /// unknown.
+    /// which [`Self::body_velocity_cov`] is made. Empty: unknown.
     pub attitude_velocity_cov: Vec<Matrix6<f64>>,
     /// Counts.
     pub stats: FilterStats,
+}
+
+impl Smoothed {
+    /// The covariance of the body-frame velocity `V = Rᵀv` at epoch `k`,
+    /// (m/s)², from [`Self::attitude_velocity_cov`] about the state there
+    /// ([`body_velocity_cov`]); `None` when unknown.
+    pub fn body_velocity_cov(&self, k: usize) -> Option<Matrix3<f64>> {
+        let block = self.attitude_velocity_cov.get(k)?;
+        Some(body_velocity_cov(self.states.get(k)?, block))
+    }
 }
 
 /// Everything the filter needs besides the observations.
@@ -215,7 +220,6 @@ impl Filter<'_> {
             states: smoothed.into_iter().map(|s| s.body).collect(),
             cuts: switched,
             velocity_difference_cov: dv.velocity_difference,
-            body_velocity_cov: dv.body_velocity,
             attitude_velocity_cov: dv.attitude_velocity,
             stats,
         }
@@ -246,7 +250,6 @@ impl Filter<'_> {
                 reference,
                 Posterior {
                     velocity_difference: previous.velocity_difference_cov.clone(),
-                    body_velocity: previous.body_velocity_cov.clone(),
                     attitude_velocity: previous.attitude_velocity_cov.clone(),
                 },
             ),
@@ -259,7 +262,6 @@ impl Filter<'_> {
             states: smoothed.into_iter().map(|s| s.body).collect(),
             cuts: previous.cuts.clone(),
             velocity_difference_cov: dv.velocity_difference,
-            body_velocity_cov: dv.body_velocity,
             attitude_velocity_cov: dv.attitude_velocity,
             stats,
         }

@@ -557,11 +557,11 @@ pub fn fit(set: &RecordingSet, cfg: &FitConfig, progress: &dyn Progress) -> Resu
 }
 
 /// `smoothed` with the covariances of `first`, the same takes smoothed with
-/// no model (§6's first iteration), about `smoothed`'s own states: the
-/// world-frame covariance of eq. (9)'s velocity difference as it is, and
-/// the body-frame velocity's from `first`'s attitude-and-velocity blocks
-/// ([`crate::filter::body_velocity_cov`]). A take whose epochs differ in
-/// number keeps its own.
+/// no model (§6's first iteration): that of eq. (9)'s velocity difference
+/// (world frame) and that of the attitude and velocity, which
+/// [`Smoothed::body_velocity_cov`] turns into the body velocity's about
+/// `smoothed`'s own states. A take whose epochs differ in number keeps
+/// its own.
 ///
 /// Why: with a model, the smoother's posterior is tight wherever the
 /// model rather than the markers fixed the state, above all the velocity
@@ -579,13 +579,10 @@ fn with_markers_only_covariances(smoothed: &[Smoothed], first: &[Smoothed]) -> V
             if f.velocity_difference_cov.len() == s.states.len()
                 && f.attitude_velocity_cov.len() == s.states.len()
             {
-                out.velocity_difference_cov = f.velocity_difference_cov.clone();
-                out.body_velocity_cov = s
-                    .states
-                    .iter()
-                    .zip(&f.attitude_velocity_cov)
-                    .map(|(x, block)| crate::filter::body_velocity_cov(x, block))
-                    .collect();
+                out.velocity_difference_cov
+                    .clone_from(&f.velocity_difference_cov);
+                out.attitude_velocity_cov
+                    .clone_from(&f.attitude_velocity_cov);
             }
             out
         })
@@ -607,7 +604,7 @@ fn add_velocity_spread(
     for s in frames {
         let Some(cov) = smoothed
             .get(s.take)
-            .and_then(|x| x.body_velocity_cov.get(s.index))
+            .and_then(|x| x.body_velocity_cov(s.index))
         else {
             continue;
         };
@@ -773,13 +770,26 @@ mod tests {
     fn velocity_spread_is_the_models_slope_times_the_velocity_covariance() {
         let model = truth_model(&ObjectSpec::of(SynthObject::Box), 6).expect("model");
         let cov = Matrix3::new(4e-4, 1e-4, 0.0, 1e-4, 9e-4, -2e-4, 0.0, -2e-4, 1e-3);
+        // At rest and unrotated, the body velocity's covariance is the
+        // world velocity's block.
+        let mut block = nalgebra::Matrix6::zeros();
+        block.fixed_view_mut::<3, 3>(3, 3).copy_from(&cov);
+        let rest = State {
+            position: Vector3::zeros(),
+            orientation: nalgebra::UnitQuaternion::identity(),
+            velocity: Vector3::zeros(),
+            angular_velocity: Vector3::zeros(),
+        };
         let smoothed = vec![Smoothed {
             times: vec![0.0; 3],
-            states: Vec::new(),
+            states: vec![rest; 3],
             cuts: Vec::new(),
             velocity_difference_cov: Vec::new(),
-            body_velocity_cov: vec![Matrix3::zeros(), cov, Matrix3::zeros()],
-            attitude_velocity_cov: Vec::new(),
+            attitude_velocity_cov: vec![
+                nalgebra::Matrix6::zeros(),
+                block,
+                nalgebra::Matrix6::zeros(),
+            ],
             stats: FilterStats::default(),
         }];
         let v = Vector3::new(1.0, -3.0, 2.0);
@@ -826,7 +836,6 @@ mod tests {
             states,
             cuts: vec![false; n],
             velocity_difference_cov: vec![Matrix3::identity() * scale; n],
-            body_velocity_cov: vec![Matrix3::identity() * 2.0 * scale; n],
             attitude_velocity_cov: (0..n)
                 .map(|k| {
                     let a = nalgebra::Matrix6::<f64>::from_fn(|i, j| {
@@ -862,14 +871,17 @@ mod tests {
         let got = got.first().expect("one take");
         assert_eq!(got.states, current.states);
         assert_eq!(got.velocity_difference_cov, first.velocity_difference_cov);
+        assert_eq!(got.attitude_velocity_cov, first.attitude_velocity_cov);
         for k in 0..3 {
+            // The body velocity's covariance is about the current state,
+            // not the first run's.
             let expected = crate::filter::body_velocity_cov(
                 &current.states[k],
                 &first.attitude_velocity_cov[k],
             );
-            assert_eq!(got.body_velocity_cov[k], expected);
-            // Not the first run's own (its states differ).
-            assert!((got.body_velocity_cov[k] - first.body_velocity_cov[k]).norm() > 1e-6);
+            let own = first.body_velocity_cov(k).expect("first run's");
+            assert_eq!(got.body_velocity_cov(k), Some(expected));
+            assert!((expected - own).norm() > 1e-6);
         }
         // A take whose epochs differ in number keeps its own covariances.
         let short = take((0..2).map(other).collect(), 3e-3);

@@ -55,7 +55,6 @@ pub fn true_trajectories(
                 states,
                 cuts: Vec::new(),
                 velocity_difference_cov: Vec::new(),
-                body_velocity_cov: Vec::new(),
                 attitude_velocity_cov: Vec::new(),
                 stats: crate::filter::FilterStats::default(),
             })

@@ -11,8 +11,6 @@ use nalgebra::{Matrix3, Matrix6};
 pub struct Posterior {
     /// [`velocity_difference_cov`], world frame, (m/s)².
     pub velocity_difference: Vec<Matrix3<f64>>,
-    /// [`body_velocity_cov`], (m/s)².
-    pub body_velocity: Vec<Matrix3<f64>>,
     /// The block of the attitude error (rad, body frame) and the velocity
     /// (m/s, world frame), in that order: what [`body_velocity_cov`] is made
     /// from.
@@ -56,16 +54,9 @@ pub(super) fn smooth(steps: &[Step]) -> (Vec<FilterState>, Posterior) {
             *g = Some(gain);
         }
     }
-    let attitude_velocity: Vec<Matrix6<f64>> = covs.iter().map(attitude_velocity_block).collect();
-    let body_velocity = out
-        .iter()
-        .zip(&attitude_velocity)
-        .map(|(x, p)| body_velocity_cov(&x.body, p))
-        .collect();
     let posterior = Posterior {
         velocity_difference: velocity_difference_cov(&covs, &gains),
-        body_velocity,
-        attitude_velocity,
+        attitude_velocity: covs.iter().map(attitude_velocity_block).collect(),
     };
     (out, posterior)
 }
