@@ -61,7 +61,11 @@ pub fn parse_direction(text: &str, line: usize) -> Result<Vector3<f64>> {
             bail!("stdin line {line}: field {name} is not finite");
         }
     }
+    // Scale by the largest component first: |e| of (1e-200, 0, 0) squares
+    // to zero in f64, yet it is a valid direction.
     let e = Vector3::from(v);
+    let scale = e.amax();
+    let e = if scale > 0.0 { e / scale } else { e };
     let n = e.norm();
     if !(n.is_finite() && n > 0.0) {
         bail!(

@@ -6,12 +6,16 @@ use omniad_core::{file, Coefficients};
 use std::path::Path;
 
 /// Reads and decodes a `.omni` file in f64, naming the file in any error.
+/// Reads at most the format's maximum size, so a device or a huge file is
+/// an error at once, not gigabytes read before the header check.
 pub fn read_coefficients(path: &Path) -> Result<Coefficients<f64>> {
-    let bytes = std::fs::read(path).with_context(|| format!("cannot read {}", path.display()))?;
+    let bytes = omniad_io::read_capped(path, file::MAX_FILE_SIZE)
+        .with_context(|| format!("cannot read {}", path.display()))?;
     file::decode::<f64>(&bytes).map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))
 }
 
-/// Encodes and writes a `.omni` file.
+/// Encodes and writes a `.omni` file atomically (an existing file is
+/// replaced only by a complete new one).
 pub fn write_coefficients(path: &Path, model: &Coefficients<f64>) -> Result<()> {
     let mut buf = vec![0u8; file::MAX_FILE_SIZE];
     let n = file::encode(model, &mut buf)
@@ -19,5 +23,5 @@ pub fn write_coefficients(path: &Path, model: &Coefficients<f64>) -> Result<()> 
     let bytes = buf
         .get(..n)
         .context("encoder reported more bytes than its buffer")?;
-    std::fs::write(path, bytes).with_context(|| format!("cannot write {}", path.display()))
+    omniad_io::write_atomic(path, bytes).with_context(|| format!("cannot write {}", path.display()))
 }

@@ -3,12 +3,13 @@
 use super::common::read_coefficients;
 use anyhow::{bail, Context, Result};
 use clap::Args;
+use indicatif::{ProgressBar, ProgressStyle};
 use nalgebra::{Quaternion, UnitQuaternion, Vector3};
 use omniad_core::integrate::rk4_step;
 use omniad_core::rigid_body::AirForces;
 use omniad_core::{Environment, RigidBody, State};
 use serde_json::json;
-use std::fmt::Write as _;
+use std::io::Write;
 use std::path::PathBuf;
 
 /// Arguments of `omniad simulate`.
@@ -16,7 +17,7 @@ use std::path::PathBuf;
 pub struct SimulateArgs {
     /// Coefficient file (.omni).
     pub file: PathBuf,
-    /// Simulated time, s.
+    /// Simulated time, s (at most 1e8 RK4 steps of --dt).
     #[arg(long)]
     pub duration: f64,
     /// Integration step, s.
@@ -31,13 +32,13 @@ pub struct SimulateArgs {
     /// Initial orientation quaternion w,x,y,z (body -> world; normalised).
     #[arg(long, value_parser = parse_quat, default_value = "1,0,0,0", allow_hyphen_values = true)]
     pub orientation: UnitQuaternion<f64>,
-    /// Initial velocity x,y,z (world), m/s.
+    /// Initial velocity x,y,z (world), m/s (|v| <= 340).
     #[arg(long, value_parser = parse_vec3, default_value = "0,0,0", allow_hyphen_values = true)]
     pub velocity: Vector3<f64>,
     /// Initial angular velocity x,y,z (body), rad/s.
     #[arg(long, value_parser = parse_vec3, default_value = "0,0,0", allow_hyphen_values = true)]
     pub angular_velocity: Vector3<f64>,
-    /// Uniform wind x,y,z (world), m/s.
+    /// Uniform wind x,y,z (world), m/s (|wind| <= 340).
     #[arg(long, value_parser = parse_vec3, default_value = "0,0,0", allow_hyphen_values = true)]
     pub wind: Vector3<f64>,
     /// Air density ρ, kg/m³.
@@ -87,17 +88,66 @@ fn parse_quat(s: &str) -> Result<UnitQuaternion<f64>, String> {
     Ok(UnitQuaternion::from_quaternion(q))
 }
 
-/// Runs `omniad simulate`.
-pub fn run(a: &SimulateArgs) -> Result<()> {
+/// The most RK4 steps one run may take (about two minutes of work at the
+/// measured ~1.2 µs a step): `--duration / --dt` beyond it is refused, not
+/// left to run for ever.
+pub const MAX_STEPS: f64 = 1e8;
+/// Speeds (initial velocity, wind) above this are refused, m/s: the model
+/// is quasi-steady and incompressible (§4), which fails long before the
+/// speed of sound, and larger numbers only overflow |V|² (eq. 5).
+pub const MAX_SPEED: f64 = 340.0;
+/// Angular speeds above this are refused, rad/s (|Ω|² overflows eq. 6 and
+/// no light rigid body survives it).
+pub const MAX_ANGULAR_SPEED: f64 = 1e4;
+/// Positions beyond this distance from the origin are refused, m.
+pub const MAX_DISTANCE: f64 = 1e6;
+/// Air densities above this are refused, kg/m³ (water is 1000; the model
+/// is for air, §3).
+pub const MAX_AIR_DENSITY: f64 = 1e3;
+
+/// Checks every physical input before any work: finite, in range, the
+/// option named in the error.
+fn validate(a: &SimulateArgs) -> Result<u64> {
     if !(a.duration.is_finite() && a.duration >= 0.0) {
         bail!("--duration must be a finite non-negative number of seconds");
     }
     if !(a.dt.is_finite() && a.dt > 0.0 && a.rate.is_finite() && a.rate > 0.0) {
         bail!("--dt and --rate must be positive");
     }
-    if !(a.air_density.is_finite() && a.air_density >= 0.0) {
-        bail!("--air-density must be non-negative");
+    if !(a.air_density.is_finite() && (0.0..=MAX_AIR_DENSITY).contains(&a.air_density)) {
+        bail!("--air-density must be between 0 and {MAX_AIR_DENSITY} kg/m³");
     }
+    let steps = (a.duration / a.dt).round();
+    if steps > MAX_STEPS {
+        bail!(
+            "--duration {} s at --dt {} s is {steps:.3e} RK4 steps; at most {MAX_STEPS:.0e} are run \
+             (raise --dt or shorten --duration)",
+            a.duration,
+            a.dt
+        );
+    }
+    let limits = [
+        ("--velocity", a.velocity.norm(), MAX_SPEED, "m/s"),
+        ("--wind", a.wind.norm(), MAX_SPEED, "m/s"),
+        (
+            "--angular-velocity",
+            a.angular_velocity.norm(),
+            MAX_ANGULAR_SPEED,
+            "rad/s",
+        ),
+        ("--position", a.position.norm(), MAX_DISTANCE, "m"),
+    ];
+    for (name, value, max, unit) in limits {
+        if value.is_nan() || value > max {
+            bail!("{name} has magnitude {value:.3e} {unit}; at most {max} {unit} is accepted");
+        }
+    }
+    Ok(steps as u64)
+}
+
+/// Runs `omniad simulate`.
+pub fn run(a: &SimulateArgs) -> Result<()> {
+    let steps = validate(a)?;
     let model = read_coefficients(&a.file)?;
     let body = body_of(&model, a)?;
     let env = Environment {
@@ -115,37 +165,77 @@ pub fn run(a: &SimulateArgs) -> Result<()> {
         velocity: a.velocity,
         angular_velocity: a.angular_velocity,
     };
-    let steps = (a.duration / a.dt).round() as u64;
     let every = ((1.0 / a.rate) / a.dt).round().max(1.0) as u64;
-    let mut csv = String::from("t,x,y,z,qw,qx,qy,qz,vx,vy,vz,wx,wy,wz\n");
-    let mut t = 0.0;
-    push_row(&mut csv, t, &s);
-    let mut step = 0;
+    // Rows are streamed, so a long run needs no memory for its trajectory.
+    let mut csv = a
+        .csv
+        .then(|| std::io::BufWriter::new(std::io::stdout().lock()));
+    if let Some(out) = csv.as_mut() {
+        writeln!(out, "t,x,y,z,qw,qx,qy,qz,vx,vy,vz,wx,wy,wz")?;
+        write_row(out, 0.0, &s)?;
+    }
+    let bar = progress(steps);
+    let (mut t, mut step) = (0.0, 0);
     while step < steps {
         s = rk4_step(&body, &env, &forces, t, a.dt, &s);
         step += 1;
         t = step as f64 * a.dt;
         if !s.is_finite() {
-            bail!("the state became non-finite at t = {t:.4} s (step too large for this body?)");
+            bail!(
+                "numerical blow-up: the state became non-finite at t = {t:.4} s \
+                 (step too large for this body?)"
+            );
         }
         let grounded = a.stop_at_ground && s.position.z <= 0.0;
         if step % every == 0 || step == steps || grounded {
-            push_row(&mut csv, t, &s);
+            if let Some(out) = csv.as_mut() {
+                write_row(out, t, &s)?;
+            }
+        }
+        if step % PROGRESS_EVERY == 0 {
+            bar.set_position(step);
         }
         if grounded {
             break;
         }
     }
-    if a.csv {
-        print!("{csv}");
+    bar.finish_and_clear();
+    if let Some(mut out) = csv {
+        out.flush()?;
     }
+    report(a, &body, t, step, &s)
+}
+
+/// Steps between progress-bar updates.
+const PROGRESS_EVERY: u64 = 1 << 16;
+
+/// A progress bar on stderr for runs of more than about a second (one
+/// million steps); hidden otherwise and when stderr is not a terminal.
+fn progress(steps: u64) -> ProgressBar {
+    if steps < 1_000_000 {
+        return ProgressBar::hidden();
+    }
+    let bar = ProgressBar::new(steps).with_message("RK4 steps");
+    if let Ok(style) = ProgressStyle::with_template("{msg} {bar:40} {pos}/{len} eta {eta}") {
+        bar.set_style(style);
+    }
+    bar
+}
+
+fn report(
+    a: &SimulateArgs,
+    body: &RigidBody<f64>,
+    t: f64,
+    step: u64,
+    s: &State<f64>,
+) -> Result<()> {
     let summary = json!({
         "duration_s": t, "steps": step,
         "final_position_m": [s.position.x, s.position.y, s.position.z],
         "final_velocity_m_s": [s.velocity.x, s.velocity.y, s.velocity.z],
         "final_speed_m_s": s.velocity.norm(),
         "horizontal_distance_m": (s.position.xy() - a.position.xy()).norm(),
-        "kinetic_energy_j": s.kinetic_energy(&body),
+        "kinetic_energy_j": s.kinetic_energy(body),
     });
     if a.json {
         println!("{}", serde_json::to_string_pretty(&summary)?);
@@ -181,12 +271,12 @@ fn body_of(model: &omniad_core::Coefficients<f64>, a: &SimulateArgs) -> Result<R
     Ok(body)
 }
 
-fn push_row(out: &mut String, t: f64, s: &State<f64>) {
+fn write_row(out: &mut impl Write, t: f64, s: &State<f64>) -> std::io::Result<()> {
     let q = s.orientation.quaternion();
     let (p, v, w) = (s.position, s.velocity, s.angular_velocity);
-    let _ = writeln!(
+    writeln!(
         out,
         "{t:.6},{},{},{},{},{},{},{},{},{},{},{},{},{}",
         p.x, p.y, p.z, q.w, q.i, q.j, q.k, v.x, v.y, v.z, w.x, w.y, w.z
-    );
+    )
 }

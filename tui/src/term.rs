@@ -1,5 +1,6 @@
 //! Terminal set-up and the run loop: raw mode and the alternate screen,
-//! restored on exit, on Ctrl-C (a key in raw mode) and on panic.
+//! restored on exit, on Ctrl-C (a key in raw mode), on panic and on the
+//! signals that end a process from outside (TERM, INT, HUP, QUIT).
 
 use crate::app::App;
 use crate::event::{spawn_input, Event};
@@ -47,9 +48,26 @@ fn setup(mouse: bool) -> io::Result<Term> {
     Terminal::new(CrosstermBackend::new(out))
 }
 
+/// Restores the terminal and exits `128 + signal` (the shell's convention)
+/// when TERM, INT, HUP or QUIT arrives. Why a thread: restoring writes to
+/// the terminal, which a signal handler must not do; signal-hook's iterator
+/// turns the signal into an ordinary wake-up of this thread.
+fn install_signal_restore() -> io::Result<()> {
+    use signal_hook::consts::{SIGHUP, SIGINT, SIGQUIT, SIGTERM};
+    let mut signals = signal_hook::iterator::Signals::new([SIGTERM, SIGINT, SIGHUP, SIGQUIT])?;
+    std::thread::spawn(move || {
+        if let Some(sig) = signals.forever().next() {
+            restore();
+            std::process::exit(128 + sig);
+        }
+    });
+    Ok(())
+}
+
 /// Runs `app` in the terminal until the user quits.
 pub fn run(mut app: App, mouse: bool) -> io::Result<()> {
     install_panic_hook();
+    install_signal_restore()?;
     let result = setup(mouse).and_then(|mut t| event_loop(&mut t, &mut app));
     restore();
     result

@@ -135,3 +135,64 @@ fn a_panic_restores_the_terminal() {
         "raw mode off (icanon): {done}"
     );
 }
+
+/// `kill -SIG` from outside (a closed SSH session sends HUP) must leave the
+/// terminal as `q` does: raw mode off, main screen, mouse reporting off.
+#[test]
+fn signals_restore_the_terminal() {
+    if tmux(&["-V"]).is_none() {
+        println!("NOTICE: tmux not found; skipping the signal TUI test");
+        return;
+    }
+    let bin = env!("CARGO_BIN_EXE_omniad-tui");
+    for (sig, code) in [("TERM", 143), ("INT", 130), ("HUP", 129)] {
+        let name = format!("omniad-tui-sig{sig}-{}", std::process::id());
+        let go = std::env::temp_dir().join(format!("{name}.go"));
+        let _ = std::fs::remove_file(&go);
+        // The TUI runs in the background of the pane's shell so that the
+        // shell can kill it (once the test has seen it drawn) and then
+        // report the terminal's state.
+        let cmd = format!(
+            "NO_COLOR=1 {bin} & pid=$!; while [ ! -e {go} ]; do sleep 0.1; done; \
+             kill -{sig} $pid; wait $pid; echo EXITED-$?; \
+             stty -a | tr ' ' '\\n' | grep -x -- '-*icanon'; sleep 30",
+            go = go.display()
+        );
+        tmux(&[
+            "new-session",
+            "-d",
+            "-s",
+            &name,
+            "-x",
+            "100",
+            "-y",
+            "30",
+            &cmd,
+        ])
+        .expect("tmux session");
+        let s = Session(name);
+        let up = s.wait_for("Telemetry");
+        assert!(up.contains("Telemetry"), "{sig}: the TUI is drawn: {up}");
+        std::fs::write(&go, b"").expect("go file");
+        let done = s.wait_for("icanon");
+        let _ = std::fs::remove_file(&go);
+        assert!(done.contains(&format!("EXITED-{code}")), "{sig}: {done}");
+        assert!(
+            !done.contains("Telemetry"),
+            "{sig}: alternate screen left: {done}"
+        );
+        assert!(
+            done.lines().any(|l| l.trim() == "icanon"),
+            "{sig}: raw mode off (icanon): {done}"
+        );
+        let flags = tmux(&[
+            "display-message",
+            "-p",
+            "-t",
+            &s.0,
+            "#{alternate_on}#{mouse_any_flag}",
+        ])
+        .unwrap_or_default();
+        assert_eq!(flags.trim(), "00", "{sig}: alternate screen and mouse off");
+    }
+}
