@@ -45,6 +45,9 @@ enum Command {
     Synth(cmd::synth::SynthArgs),
     /// Convert DLTdv / DeepLabCut marker tracks to the recording format.
     ImportTracks(cmd::import::ImportArgs),
+    /// Real kite flight telemetry: fit, held-out residual, effects.
+    #[command(subcommand)]
+    Flight(cmd::flight::FlightCommand),
 }
 
 fn main() -> ExitCode {
@@ -62,6 +65,7 @@ fn main() -> ExitCode {
         Some(Command::Reconstruct(a)) => cmd::reconstruct::run(a),
         Some(Command::Synth(a)) => cmd::synth::run(a),
         Some(Command::ImportTracks(a)) => cmd::import::run(a),
+        Some(Command::Flight(c)) => cmd::flight::run(c),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -4,6 +4,7 @@ pub mod coeffs;
 pub mod common;
 pub mod firmware;
 pub mod fit;
+pub mod flight;
 pub mod import;
 pub mod info;
 pub mod kite;

@@ -1,0 +1,148 @@
+//! End to end: `omniad flight fit` on the three bundled Kitepower cycles
+//! (train 1-2, test 3): the report's fields, the model file, the plots, and
+//! that no fitting step sees a test cycle.
+
+use serde_json::Value;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+fn bundled() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("data/flight/kitepower-2019-10-08")
+}
+
+fn fit(dir: &Path, extra: &[&str]) -> Value {
+    let out = Command::new(env!("CARGO_BIN_EXE_omniad"))
+        .args(["flight", "fit"])
+        .arg(dir)
+        .args(["--train", "1-2", "--test", "3", "--json"])
+        .args(extra)
+        .output()
+        .expect("run");
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    serde_json::from_slice(&out.stdout).expect("json")
+}
+
+fn num(v: &Value, path: &[&str]) -> f64 {
+    path.iter()
+        .fold(v, |v, k| &v[*k])
+        .as_f64()
+        .unwrap_or_else(|| panic!("{path:?} is a number: {v}"))
+}
+
+#[test]
+fn the_report_model_and_plots_of_a_flight_fit() {
+    let tmp = tempfile::tempdir().expect("tempdir");
+    let model = tmp.path().join("kite.omni");
+    let plots = tmp.path().join("plots");
+    let r = fit(
+        &bundled(),
+        &[
+            "-o",
+            model.to_str().expect("path"),
+            "--plots",
+            plots.to_str().expect("path"),
+        ],
+    );
+    let before = num(&r, &["baseline", "heldout_force_rms"]);
+    let after = num(&r, &["after", "heldout_force_rms"]);
+    assert!(before > 0.0 && after > 0.0, "{r}");
+    assert!(
+        after <= before,
+        "selection on training cycles must not hurt here: {r}"
+    );
+    assert!(num(&r, &["baseline", "heldout_tension_rms"]) > 0.0);
+    assert!(
+        r["candidates"].as_array().is_some_and(|c| c.len() >= 5),
+        "{r}"
+    );
+    for name in r["selected"].as_array().expect("selected") {
+        let name = name.as_str().expect("name");
+        assert!(
+            [
+                "covariate:depower",
+                "covariate:steering",
+                "tether_drag",
+                "kite_inertia",
+                "kcu_swing"
+            ]
+            .contains(&name),
+            "{name}"
+        );
+    }
+    assert_eq!(
+        num(&r, &["rows", "test", "read"]),
+        1353.0,
+        "cycle 3 has 1353 rows"
+    );
+    assert!(!r["verdict"].as_str().expect("verdict").is_empty());
+    let info = Command::new(env!("CARGO_BIN_EXE_omniad"))
+        .arg("info")
+        .arg(&model)
+        .output()
+        .expect("info");
+    assert!(
+        info.status.success(),
+        "{}",
+        String::from_utf8_lossy(&info.stderr)
+    );
+    let svg = std::fs::read_to_string(plots.join("force-vs-time.svg")).expect("plot");
+    assert!(svg.starts_with("<svg") && svg.contains("cycle 3"));
+    assert!(plots.join("residual-vs-depower.svg").exists());
+}
+
+/// The test cycle is changed beyond recognition (tension tripled); every
+/// number that fitting produces must stay the same, only the held-out
+/// scores may move.
+#[test]
+fn no_fitting_step_sees_a_test_cycle() {
+    let clean = fit(&bundled(), &[]);
+    let tmp = tempfile::tempdir().expect("tempdir");
+    for n in 1..=3 {
+        let name = format!("20191008_{n:04}.csv");
+        let text = std::fs::read_to_string(bundled().join(&name)).expect("read");
+        let text = if n == 3 { triple_tension(&text) } else { text };
+        std::fs::write(tmp.path().join(&name), text).expect("write");
+    }
+    let altered = fit(tmp.path(), &[]);
+    assert_eq!(clean["selected"], altered["selected"]);
+    assert_eq!(clean["params"], altered["params"]);
+    assert_eq!(clean["confounding"], altered["confounding"]);
+    for (a, b) in clean["candidates"]
+        .as_array()
+        .expect("candidates")
+        .iter()
+        .zip(altered["candidates"].as_array().expect("candidates"))
+    {
+        assert_eq!(a["cv_force_rms"], b["cv_force_rms"], "{a} vs {b}");
+        assert_eq!(a["param"], b["param"]);
+    }
+    assert_ne!(
+        clean["baseline"], altered["baseline"],
+        "the test cycle was changed"
+    );
+}
+
+fn triple_tension(text: &str) -> String {
+    let mut lines = text.lines();
+    let header = lines.next().expect("header");
+    let col = header
+        .split(',')
+        .position(|h| h == "ground_tether_force")
+        .expect("column");
+    let mut out = format!("{header}\n");
+    for l in lines {
+        let mut f: Vec<String> = l.split(',').map(str::to_owned).collect();
+        if let Some(v) = f.get_mut(col) {
+            if let Ok(x) = v.parse::<f64>() {
+                *v = format!("{}", 3.0 * x);
+            }
+        }
+        out.push_str(&f.join(","));
+        out.push('\n');
+    }
+    out
+}
