@@ -16,6 +16,7 @@ pub mod assemble;
 pub mod check;
 pub mod export;
 pub mod flight;
+mod flight_step;
 pub mod generate;
 pub mod geometry;
 pub mod joints;
@@ -23,6 +24,7 @@ pub mod library;
 pub mod mass;
 pub mod modes;
 pub mod spec;
+mod tether;
 pub mod trimming;
 pub mod wind;
 

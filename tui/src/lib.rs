@@ -70,10 +70,7 @@ pub fn run(options: &Options) -> Result<(), String> {
         .map(|f| models::load(f))
         .collect::<Result<Vec<_>, _>>()?;
     let mut app = App::new(models, theme::Theme::from_env());
-    app.kite = kite::files::kite_view(
-        options.kite.as_deref(),
-        &models::default_model().coefficients,
-    );
+    app.kite = kite::files::kite_view(options.kite.as_deref());
     term::run(app, options.mouse).map_err(|e| format!("terminal: {e}"))
 }
 
