@@ -23,6 +23,12 @@ fn wait_for(session: &str, text: &str) -> String {
     }
 }
 
+/// A detached tmux session of `(width, height)` running `cmd`.
+fn start(session: &str, cmd: &str, (w, h): (u16, u16)) {
+    let (w, h) = (w.to_string(), h.to_string());
+    tmux(&["new-session", "-d", "-s", session, "-x", &w, "-y", &h, cmd]).expect("tmux session");
+}
+
 #[test]
 fn omniad_without_a_command_opens_the_tui() {
     if tmux(&["-V"]).is_none() {
@@ -32,18 +38,7 @@ fn omniad_without_a_command_opens_the_tui() {
     let bin = env!("CARGO_BIN_EXE_omniad");
     let session = format!("omniad-cli-tui-{}", std::process::id());
     let cmd = format!("{bin}; echo EXITED-$?; sleep 30");
-    tmux(&[
-        "new-session",
-        "-d",
-        "-s",
-        &session,
-        "-x",
-        "80",
-        "-y",
-        "24",
-        &cmd,
-    ])
-    .expect("tmux session");
+    start(&session, &cmd, (80, 24));
     let screen = wait_for(&session, "Telemetry");
     let ok = screen.contains("[1 Sphere]") && screen.contains("plate.omni");
     tmux(&["send-keys", "-t", &session, "q"]);
@@ -68,19 +63,11 @@ fn an_unloadable_kite_file_is_shown_as_an_error_and_not_saved_over() {
     std::fs::write(&kite, original).expect("kite file");
     let bin = env!("CARGO_BIN_EXE_omniad");
     let session = format!("omniad-cli-tui-kite-{}", std::process::id());
-    let cmd = format!("{bin} tui --kite {}; echo EXITED-$?; sleep 30", kite.display());
-    tmux(&[
-        "new-session",
-        "-d",
-        "-s",
-        &session,
-        "-x",
-        "100",
-        "-y",
-        "30",
-        &cmd,
-    ])
-    .expect("tmux session");
+    let cmd = format!(
+        "{bin} tui --kite {}; echo EXITED-$?; sleep 30",
+        kite.display()
+    );
+    start(&session, &cmd, (100, 30));
     wait_for(&session, "Telemetry");
     tmux(&["send-keys", "-t", &session, "2"]);
     let screen = wait_for(&session, "unknown_key");

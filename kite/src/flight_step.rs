@@ -186,8 +186,8 @@ impl Flight {
     pub fn sample(&self) -> Sample {
         let (s, t) = (&self.state, self.time());
         let (roll, pitch, yaw) = s.orientation.euler_angles();
-        let at = s.position + s.orientation.transform_vector(&self.line.attachment)
-            - self.line.anchor;
+        let at =
+            s.position + s.orientation.transform_vector(&self.line.attachment) - self.line.anchor;
         let horizontal = (at.x * at.x + at.y * at.y).sqrt();
         Sample {
             t,

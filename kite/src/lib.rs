@@ -6,7 +6,8 @@
 //! * [`assemble`]: a file turned into primitives for the core statics
 //!   (`omniad_core::kite`).
 //! * [`check`], [`trimming`]: the static report and trim search.
-//! * [`wind`], [`flight`]: gusty wind and the tethered flight simulation.
+//! * [`wind`], [`flight`]: gusty wind and the tethered flight simulation
+//!   ([`flight::Flight`] steps it; `kite fly` and the TUI both run it).
 //! * [`export`]: OpenSCAD sockets, cut list, SVG three-view drawing.
 
 // `!(x > 0.0)` deliberately rejects NaN as well as non-positive values.

@@ -65,4 +65,3 @@ impl Forces<f64> for Tether<'_> {
         }
     }
 }
-

@@ -32,7 +32,8 @@ pub struct Options {
     /// simulator's `--csv` output) instead of the bundled log.
     pub telemetry: Option<String>,
     /// Kite file the kite view opens (if it exists; else the bundled box
-    /// kite) and saves to (default `kite.toml`).
+    /// kite) and saves to (default `kite.toml`); a file that does not
+    /// load is shown as the error and never saved over.
     pub kite: Option<String>,
 }
 

@@ -143,7 +143,11 @@ fn kite_primitives_are_added_edited_and_removed() {
     for _ in 0..5 {
         app.on_key(key(KeyCode::Backspace));
     }
-    assert_eq!(app.kite.spec.primitives.len(), 1, "a kite keeps one primitive");
+    assert_eq!(
+        app.kite.spec.primitives.len(),
+        1,
+        "a kite keeps one primitive"
+    );
 }
 
 #[test]

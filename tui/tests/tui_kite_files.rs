@@ -132,7 +132,11 @@ fn a_kite_file_that_does_not_load_is_an_error_and_never_saved_over() {
     for c in ['b', '}', 'w'] {
         app.handle(&Event::Key(char_key(c)));
     }
-    assert!(app.kite.message.starts_with("not saved"), "{}", app.kite.message);
+    assert!(
+        app.kite.message.starts_with("not saved"),
+        "{}",
+        app.kite.message
+    );
     assert_eq!(std::fs::read_to_string(&path).expect("file"), original);
     app.handle(&Event::Key(char_key('3')));
     app.handle(&Event::Key(char_key('k')));
@@ -150,7 +154,14 @@ fn a_new_kite_file_is_created_by_saving() {
     app.kite = kite_view(Some(&path.to_string_lossy()));
     app.handle(&Event::Key(char_key('2')));
     app.handle(&Event::Key(char_key('w')));
-    assert!(app.kite.message.starts_with("saved"), "{}", app.kite.message);
-    assert_eq!(KiteSpec::load(&path).expect("saved kite loads"), app.kite.spec);
+    assert!(
+        app.kite.message.starts_with("saved"),
+        "{}",
+        app.kite.message
+    );
+    assert_eq!(
+        KiteSpec::load(&path).expect("saved kite loads"),
+        app.kite.spec
+    );
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -3,11 +3,11 @@
 //! attachment point, and the selected primitive's name.
 
 use super::KiteView;
+use crate::theme::Theme;
+use nalgebra::Vector3;
 use omniad_kite::check::CheckReport;
 use omniad_kite::geometry::{panels, rotation_from_degrees};
 use omniad_kite::KiteSpec;
-use crate::theme::Theme;
-use nalgebra::Vector3;
 use ratatui::buffer::Buffer;
 use ratatui::layout::Rect;
 use ratatui::style::Color;
@@ -44,7 +44,10 @@ pub fn render_drawing(v: &KiteView, proj: Projection, theme: Theme, area: Rect, 
         return block.render(area, buf);
     }
     let r = rotation_from_degrees(&v.spec.orientation);
-    let center = v.design.as_ref().map_or(Vector3::zeros(), |d| d.mass.center);
+    let center = v
+        .design
+        .as_ref()
+        .map_or(Vector3::zeros(), |d| d.mass.center);
     let shapes: Vec<(usize, [Vector3<f64>; 4])> = outlines(&v.spec, &center)
         .into_iter()
         .map(|(i, c)| (i, c.map(|p| r * p)))
@@ -94,7 +97,10 @@ fn outlines(spec: &KiteSpec, center: &Vector3<f64>) -> Vec<(usize, [Vector3<f64>
     for (i, p) in spec.primitives.iter().enumerate() {
         for f in panels(p) {
             let c = f.center - center;
-            out.push((i, [c - f.u - f.v, c + f.u - f.v, c + f.u + f.v, c - f.u + f.v]));
+            out.push((
+                i,
+                [c - f.u - f.v, c + f.u - f.v, c + f.u + f.v, c - f.u + f.v],
+            ));
         }
     }
     out

@@ -70,7 +70,12 @@ fn bundled(save: String) -> KiteView {
 
 /// The demo kite view (saves to `kite.toml`).
 pub fn demo_view() -> KiteView {
-    KiteView::new(demo_spec(), library(), PathBuf::from("."), "kite.toml".into())
+    KiteView::new(
+        demo_spec(),
+        library(),
+        PathBuf::from("."),
+        "kite.toml".into(),
+    )
 }
 
 /// The kite view for a real run: the kite file at `path` if it exists,

@@ -205,10 +205,20 @@ pub fn eigen_bar(value: f64, scale: f64, half: usize) -> String {
 }
 
 fn render_eigen(a: &CheckReport, theme: Theme, area: Rect, buf: &mut Buffer) {
-    let scale = a.axes.iter().map(|x| x.eigenvalue.abs()).fold(0.0, f64::max);
+    let scale = a
+        .axes
+        .iter()
+        .map(|x| x.eigenvalue.abs())
+        .fold(0.0, f64::max);
     let half = (area.width.saturating_sub(30) / 2).clamp(2, 20) as usize;
     let mut lines = Vec::new();
-    for (i, AxisReport { eigenvalue, axis, .. }) in a.axes.iter().enumerate() {
+    for (
+        i,
+        AxisReport {
+            eigenvalue, axis, ..
+        },
+    ) in a.axes.iter().enumerate()
+    {
         let val = *eigenvalue;
         let (st, verdict) = if val < 0.0 {
             (theme.good(), "✓ stable")
