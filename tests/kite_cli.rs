@@ -122,3 +122,57 @@ fn trim_fly_and_export_run() {
     assert!(!out.status.success() && text(&out.stderr).contains("--seconds"));
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// Issue 18: every kite output is written atomically (temporary file +
+/// rename): an existing file is replaced whole, no temporary file is left
+/// behind, and a run that fails before writing leaves the old file alone.
+#[test]
+fn kite_outputs_replace_files_whole_and_leave_nothing_behind() {
+    let dir = std::env::temp_dir().join(format!("omniad-kite-cli-atomic-{}", std::process::id()));
+    let fab = dir.join("fab");
+    std::fs::create_dir_all(&fab).expect("tmp");
+    let junk = "junk\n".repeat(200_000);
+    let csv = dir.join("trace.csv");
+    for f in [csv.clone(), fab.join("cutlist.txt")] {
+        std::fs::write(&f, &junk).expect("junk");
+    }
+    let out = omniad()
+        .args(["kite", "fly", "--seconds", "1", "--csv"])
+        .arg(&csv)
+        .arg(kite("box-classic"))
+        .output()
+        .expect("run");
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let trace = std::fs::read_to_string(&csv).expect("csv");
+    assert!(trace.starts_with("t,x,y,z,") && !trace.contains("junk"));
+    let out = omniad()
+        .args(["kite", "export", "-o"])
+        .arg(&fab)
+        .arg(kite("box-classic"))
+        .output()
+        .expect("run");
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let cut = std::fs::read_to_string(fab.join("cutlist.txt")).expect("cut list");
+    assert!(!cut.contains("junk"), "{cut}");
+    let names = |d: &Path| {
+        let mut v: Vec<String> = std::fs::read_dir(d)
+            .expect("dir")
+            .map(|e| e.expect("entry").file_name().to_string_lossy().into_owned())
+            .collect();
+        v.sort();
+        v
+    };
+    assert_eq!(names(&fab), ["cutlist.txt", "drawing.svg", "sockets.scad"]);
+    assert_eq!(names(&dir), ["fab", "trace.csv"]);
+    let bad = dir.join("bad.toml");
+    std::fs::write(&bad, "name = \"x\"\nbogus = 1\n").expect("bad kite");
+    let out = omniad()
+        .args(["kite", "fly", "--csv"])
+        .arg(&csv)
+        .arg(&bad)
+        .output()
+        .expect("run");
+    assert!(!out.status.success());
+    assert_eq!(std::fs::read_to_string(&csv).expect("csv"), trace);
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -29,7 +29,8 @@ pub fn export(design: &Design, dir: &Path) -> Result<Vec<std::path::PathBuf>> {
     let mut out = Vec::new();
     for (name, text) in files {
         let path = dir.join(name);
-        std::fs::write(&path, text).with_context(|| format!("cannot write {}", path.display()))?;
+        omniad_io::write_atomic(&path, text.as_bytes())
+            .with_context(|| format!("cannot write {}", path.display()))?;
         out.push(path);
     }
     Ok(out)

@@ -15,112 +15,13 @@
 //! looping or lying low.
 
 use crate::assemble::Design;
-use crate::wind::Wind;
-use anyhow::{anyhow, Result};
-use nalgebra::{UnitQuaternion, Vector3};
-use omniad_core::aero::Wrench;
-use omniad_core::integrate::rk4_step;
-use omniad_core::kite::{statics, Primitive};
-use omniad_core::rigid_body::{Environment, Forces, State};
+use anyhow::Result;
 use serde::Serialize;
 
-/// Crash height of the centre of mass, m.
-pub const GROUND_CLEARANCE: f64 = 0.3;
-/// Lowest line elevation counted as flying, degrees.
-pub const MIN_ELEVATION_DEG: f64 = 15.0;
-/// Highest angular speed counted as bounded, rad/s.
-pub const MAX_SPIN: f64 = 10.0;
-/// Anchor (the flyer's hand), world frame, m.
-pub const ANCHOR: [f64; 3] = [0.0, 0.0, 1.5];
-
-/// Simulation settings.
-#[derive(Clone, Debug)]
-pub struct FlightOptions {
-    /// Duration, s.
-    pub seconds: f64,
-    /// Gust strength G (std of the along-wind gust), m/s.
-    pub gust: f64,
-    /// Turbulence seed.
-    pub seed: u64,
-    /// Wind speed, m/s (default: the file's).
-    pub wind: Option<f64>,
-    /// RK4 step, s.
-    pub dt: f64,
-    /// Trace sample interval, s.
-    pub sample: f64,
-    /// Line stiffness k, N/m.
-    pub stiffness: f64,
-    /// Line damping c, N s/m.
-    pub damping: f64,
-}
-
-impl Default for FlightOptions {
-    fn default() -> Self {
-        Self {
-            seconds: 60.0,
-            gust: 1.0,
-            seed: 1,
-            wind: None,
-            dt: 1e-3,
-            sample: 0.05,
-            stiffness: 200.0,
-            damping: 2.0,
-        }
-    }
-}
-
-/// The forces on a tethered kite.
-pub struct Tether<'a> {
-    /// The primitives (offsets from the centre of mass).
-    pub primitives: &'a [Primitive<'a, f64>],
-    /// Attachment P, body frame, m.
-    pub attachment: Vector3<f64>,
-    /// Anchor, world frame, m.
-    pub anchor: Vector3<f64>,
-    /// Rest length ℓ, m.
-    pub length: f64,
-    /// k, N/m.
-    pub stiffness: f64,
-    /// c, N s/m.
-    pub damping: f64,
-    /// Wind field.
-    pub wind: &'a Wind,
-    /// ρ, kg/m³.
-    pub air_density: f64,
-}
-
-impl Tether<'_> {
-    /// The string's force on the kite, world frame, N.
-    pub fn string_force(&self, s: &State<f64>) -> Vector3<f64> {
-        let r = s.orientation;
-        let at = s.position + r.transform_vector(&self.attachment);
-        let v_at = s.velocity + r.transform_vector(&s.angular_velocity.cross(&self.attachment));
-        let d = self.anchor - at;
-        let dist = d.norm();
-        if !(dist > self.length) {
-            return Vector3::zeros();
-        }
-        let dir = d / dist;
-        let stretch_rate = -dir.dot(&v_at);
-        let tension =
-            (self.stiffness * (dist - self.length) + self.damping * stretch_rate).max(0.0);
-        dir * tension
-    }
-}
-
-impl Forces<f64> for Tether<'_> {
-    fn wrench(&self, t: f64, s: &State<f64>) -> Wrench<f64> {
-        let v = s.air_velocity_body(&self.wind.at(t));
-        let air = statics::air_wrench(self.primitives, &v, &s.angular_velocity, self.air_density);
-        let f = s
-            .orientation
-            .inverse_transform_vector(&self.string_force(s));
-        Wrench {
-            force: air.force + f,
-            torque: air.torque + self.attachment.cross(&f),
-        }
-    }
-}
+pub use crate::flight_step::{
+    Flight, FlightOptions, Sample, ANCHOR, GROUND_CLEARANCE, MAX_SPIN, MIN_ELEVATION_DEG,
+};
+pub use crate::tether::{Line, Tether};
 
 /// Outcome of a flight.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
@@ -132,25 +33,6 @@ pub enum Outcome {
     Unsettled,
     /// Hit the ground or diverged.
     Crashes,
-}
-
-/// One trace sample.
-#[derive(Clone, Debug, Serialize)]
-pub struct Sample {
-    /// s.
-    pub t: f64,
-    /// Centre of mass, world, m.
-    pub position: [f64; 3],
-    /// Roll, pitch, yaw (x, y, z Euler), degrees.
-    pub attitude_deg: [f64; 3],
-    /// |Ω|, rad/s.
-    pub spin: f64,
-    /// Line tension, N.
-    pub tension: f64,
-    /// Line elevation seen from the anchor, degrees.
-    pub elevation_deg: f64,
-    /// Wind, world, m/s.
-    pub wind: [f64; 3],
 }
 
 /// Flight summary.
@@ -185,89 +67,30 @@ pub struct FlightReport {
     pub trace: Vec<Sample>,
 }
 
-/// Initial state: at the file's orientation, on a taut line along the
-/// static string direction (or at 45° when the string would pull upward).
-fn initial_state(
-    design: &Design,
-    wind: f64,
-    tether: &Tether<'_>,
-    r: &UnitQuaternion<f64>,
-) -> Result<State<f64>> {
-    let kite = design.kite(tether.primitives);
-    let eq = statics::equilibrium(&kite, &design.conditions(Some(wind)), r)
-        .map_err(|e| anyhow!("{e}"))?;
-    let (dir, tension) = if eq.pulls_down && eq.string_world.norm() > 0.0 {
-        (eq.string_world.normalize(), eq.string_world.norm())
-    } else {
-        (Vector3::new(-1.0, 0.0, -1.0).normalize(), 0.0)
-    };
-    let at = tether.anchor - dir * (tether.length + tension / tether.stiffness);
-    let mut s = State::at_rest(at - r.transform_vector(&tether.attachment));
-    s.orientation = *r;
-    Ok(s)
-}
-
-/// Simulates a flight from the file's orientation and attachment point.
+/// Simulates a flight from the file's orientation and attachment point:
+/// [`Flight`] stepped for `opts.seconds`, sampled every `opts.sample`.
 pub fn fly(design: &Design, opts: &FlightOptions) -> Result<FlightReport> {
-    let speed = opts.wind.unwrap_or(design.spec.wind.speed);
-    let r0 = design.orientation();
-    design.reject_overlaps(&r0)?;
-    let attachment = crate::check::attachment_point(design, Some(speed), &r0)?;
-    let wind = Wind::new(speed, opts.gust, opts.seed);
-    let prims = design.primitives();
-    let tether = Tether {
-        primitives: &prims,
-        attachment,
-        anchor: Vector3::from(ANCHOR),
-        length: design.spec.string.length,
-        stiffness: opts.stiffness,
-        damping: opts.damping,
-        wind: &wind,
-        air_density: design.spec.wind.air_density,
-    };
-    let body = design.body()?;
-    let env = Environment {
-        wind: Vector3::zeros(),
-        air_density: design.spec.wind.air_density,
-        ..Environment::standard()
-    };
-    let mut s = initial_state(design, speed, &tether, &r0)?;
+    let mut flight = Flight::new(design.clone(), opts)?;
     let steps = (opts.seconds / opts.dt).ceil() as usize;
     let every = ((opts.sample / opts.dt).round() as usize).max(1);
     let mut trace = Vec::new();
     let mut crash_time = None;
     let mut min_height = f64::INFINITY;
     for i in 0..=steps {
-        let t = i as f64 * opts.dt;
-        min_height = min_height.min(s.position.z);
-        if !s.is_finite() || s.position.z < GROUND_CLEARANCE {
-            crash_time = Some(t);
-            trace.push(sample(t, &s, &tether, &wind));
+        min_height = min_height.min(flight.state().position.z);
+        if flight.crashed() {
+            crash_time = Some(flight.time());
+            trace.push(flight.sample());
             break;
         }
         if i % every == 0 {
-            trace.push(sample(t, &s, &tether, &wind));
+            trace.push(flight.sample());
         }
         if i < steps {
-            s = rk4_step(&body, &env, &tether, t, opts.dt, &s);
+            flight.step();
         }
     }
     Ok(summarise(design, opts, crash_time, min_height, trace))
-}
-
-fn sample(t: f64, s: &State<f64>, tether: &Tether<'_>, wind: &Wind) -> Sample {
-    let (roll, pitch, yaw) = s.orientation.euler_angles();
-    let at = s.position + s.orientation.transform_vector(&tether.attachment) - tether.anchor;
-    let horizontal = (at.x * at.x + at.y * at.y).sqrt();
-    Sample {
-        t,
-        position: s.position.into(),
-        attitude_deg: [roll, pitch, yaw].map(f64::to_degrees),
-        spin: s.angular_velocity.norm(),
-        tension: tether.string_force(s).norm(),
-        elevation_deg: at.z.atan2(horizontal).to_degrees(),
-        wind: wind.at(t).into(),
-    }
 }
 
 fn summarise(

@@ -6,7 +6,8 @@
 //! * [`assemble`]: a file turned into primitives for the core statics
 //!   (`omniad_core::kite`).
 //! * [`check`], [`trimming`]: the static report and trim search.
-//! * [`wind`], [`flight`]: gusty wind and the tethered flight simulation.
+//! * [`wind`], [`flight`]: gusty wind and the tethered flight simulation
+//!   ([`flight::Flight`] steps it; `kite fly` and the TUI both run it).
 //! * [`export`]: OpenSCAD sockets, cut list, SVG three-view drawing.
 
 // `!(x > 0.0)` deliberately rejects NaN as well as non-positive values.
@@ -16,6 +17,7 @@ pub mod assemble;
 pub mod check;
 pub mod export;
 pub mod flight;
+mod flight_step;
 pub mod generate;
 pub mod geometry;
 pub mod joints;
@@ -23,6 +25,7 @@ pub mod library;
 pub mod mass;
 pub mod modes;
 pub mod spec;
+mod tether;
 pub mod trimming;
 pub mod wind;
 

@@ -3,11 +3,11 @@
 //! names the offending field (`primitive[1].size`, `string.gamma`, ...).
 
 use anyhow::{bail, Context, Result};
-use serde::Deserialize;
+use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 
 /// A whole kite file.
-#[derive(Clone, Debug, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct KiteSpec {
     /// Short name.
@@ -32,12 +32,12 @@ pub struct KiteSpec {
     #[serde(default, rename = "primitive")]
     pub primitives: Vec<PrimitiveSpec>,
     /// Extra rods (spars, longerons), besides each primitive's own frame.
-    #[serde(default, rename = "rod")]
+    #[serde(default, rename = "rod", skip_serializing_if = "Vec::is_empty")]
     pub rods: Vec<RodSpec>,
 }
 
 /// `[wind]`.
-#[derive(Clone, Debug, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct WindSpec {
     /// Mean wind speed along world +x, m/s.
@@ -66,13 +66,15 @@ fn default_density() -> f64 {
 
 /// `[string]`: where the string is attached, on the line of eq. (16).
 /// Give at most one of `gamma` and `offset`; neither means `offset = 0`.
-#[derive(Clone, Debug, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct StringSpec {
     /// γ of eq. (16), m/N.
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub gamma: Option<f64>,
     /// The same as a distance along the string direction from the line's
     /// foot point, m (`γ |F_string|`); positive is towards the anchor.
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub offset: Option<f64>,
     /// Line length for the flight simulation, m.
     #[serde(default = "default_line")]
@@ -94,7 +96,7 @@ fn default_line() -> f64 {
 }
 
 /// `[materials]`.
-#[derive(Clone, Debug, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct Materials {
     /// Default rod diameter, m (carbon rod, 2 mm as in the paper).
@@ -136,7 +138,7 @@ fn default_socket() -> f64 {
 }
 
 /// Kind of primitive.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize, Serialize)]
 #[serde(rename_all = "lowercase")]
 pub enum Kind {
     /// Cuboid open on its two y faces (a kite cell).
@@ -147,8 +149,19 @@ pub enum Kind {
     Object,
 }
 
+impl Kind {
+    /// The name in a kite file.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Box => "box",
+            Self::Plate => "plate",
+            Self::Object => "object",
+        }
+    }
+}
+
 /// `[[primitive]]`.
-#[derive(Clone, Debug, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct PrimitiveSpec {
     /// Name (unique), used in reports and the cut list.
@@ -166,8 +179,10 @@ pub struct PrimitiveSpec {
     #[serde(default)]
     pub rotation: [f64; 3],
     /// Objects only: the `.omni` file, relative to the kite file.
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub file: Option<PathBuf>,
     /// Objects only: mass, kg (else the file's mass properties).
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub mass: Option<f64>,
     /// Boxes and plates: build the edges from rods (default true).
     #[serde(default = "yes")]
@@ -179,7 +194,7 @@ fn yes() -> bool {
 }
 
 /// `[[rod]]`: a straight rod between two points (design frame, m).
-#[derive(Clone, Debug, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct RodSpec {
     /// One end, m.
@@ -187,6 +202,7 @@ pub struct RodSpec {
     /// Other end, m.
     pub to: [f64; 3],
     /// Diameter, m (default `materials.rod_diameter`).
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub diameter: Option<f64>,
 }
 
@@ -196,6 +212,20 @@ impl KiteSpec {
         let text = std::fs::read_to_string(path)
             .with_context(|| format!("cannot read kite file {}", path.display()))?;
         Self::parse(&text).with_context(|| format!("in kite file {}", path.display()))
+    }
+
+    /// The spec as kite-file TOML text; [`KiteSpec::parse`] reads it back
+    /// to an equal spec.
+    pub fn to_toml(&self) -> Result<String> {
+        toml::to_string(self).context("cannot write the kite as TOML")
+    }
+
+    /// Writes the spec to `path` atomically (temporary file + rename), so
+    /// a failed save leaves the old file whole.
+    pub fn save(&self, path: &Path) -> Result<()> {
+        let text = self.to_toml()?;
+        omniad_io::write_atomic(path, text.as_bytes())
+            .with_context(|| format!("cannot write kite file {}", path.display()))
     }
 
     /// Parses and validates TOML text.

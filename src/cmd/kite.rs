@@ -141,7 +141,7 @@ fn fly(a: &FlyArgs) -> Result<()> {
     };
     let report = omniad_kite::flight::fly(&design, &opts)?;
     if let Some(path) = &a.csv {
-        std::fs::write(path, omniad_kite::flight::trace_csv(&report))
+        omniad_io::write_atomic(path, omniad_kite::flight::trace_csv(&report).as_bytes())
             .map_err(|e| anyhow::anyhow!("cannot write {}: {e}", path.display()))?;
     }
     if a.json {

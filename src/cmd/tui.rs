@@ -12,7 +12,8 @@ pub struct TuiArgs {
     /// compared with it (default: the bundled plate).
     pub files: Vec<PathBuf>,
     /// Kite file the kite view opens (if it exists; else the bundled box
-    /// kite) and saves to.
+    /// kite) and saves to; a file that does not load is shown as the
+    /// error and never saved over.
     #[arg(long, default_value = "kite.toml")]
     pub kite: PathBuf,
     /// Telemetry CSV to replay in view 4 (a Kitepower-style log, or the

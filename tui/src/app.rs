@@ -2,7 +2,6 @@
 //! (tabs, status line, help, "terminal too small").
 
 use crate::event::Event;
-use crate::kite::design::{Design, PlateAnalyser};
 use crate::kite::KiteView;
 use crate::models::{self, Model};
 use crate::sim::SimView;
@@ -86,8 +85,7 @@ impl App {
         Self::with_default(models, models::default_model(), theme)
     }
 
-    /// As [`App::new`] with `default` used when `models` is empty, and
-    /// for the kite's panels.
+    /// As [`App::new`] with `default` used when `models` is empty.
     pub fn with_default(mut models: Vec<Model>, default: Model, theme: Theme) -> Self {
         if models.is_empty() {
             models.push(default.clone());
@@ -95,9 +93,6 @@ impl App {
         let main = models.first().cloned().unwrap_or_else(|| default.clone());
         let drag = models::isotropic_drag(&main.coefficients, 0.3);
         models.push(drag.clone());
-        let plate = PlateAnalyser {
-            plate: default.coefficients,
-        };
         Self {
             view: ViewId::Sphere,
             help: false,
@@ -105,7 +100,7 @@ impl App {
             theme,
             stats: FrameStats::default(),
             sphere: SphereView::new(models),
-            kite: KiteView::new(Design::demo(), Box::new(plate), "kite.toml".into()),
+            kite: crate::kite::files::demo_view(),
             sim: SimView::new(vec![main, drag]),
             telemetry: TelemetryView::bundled(),
         }
@@ -185,8 +180,7 @@ impl App {
     fn view_key(&mut self, key: KeyEvent) -> bool {
         match self.view {
             ViewId::Sim if key.code == KeyCode::Char('k') => {
-                self.sim
-                    .toggle_kite(&self.kite.design, self.kite.analysis.as_ref().ok());
+                self.sim.toggle_kite(self.kite.design.as_ref().ok());
                 true
             }
             ViewId::Sphere => self.sphere.on_key(key),

@@ -32,7 +32,8 @@ pub struct Options {
     /// simulator's `--csv` output) instead of the bundled log.
     pub telemetry: Option<String>,
     /// Kite file the kite view opens (if it exists; else the bundled box
-    /// kite) and saves to (default `kite.toml`).
+    /// kite) and saves to (default `kite.toml`); a file that does not
+    /// load is shown as the error and never saved over.
     pub kite: Option<String>,
 }
 
@@ -70,10 +71,7 @@ pub fn run(options: &Options) -> Result<(), String> {
         .map(|f| models::load(f))
         .collect::<Result<Vec<_>, _>>()?;
     let mut app = App::new(models, theme::Theme::from_env());
-    app.kite = kite::files::kite_view(
-        options.kite.as_deref(),
-        &models::default_model().coefficients,
-    );
+    app.kite = kite::files::kite_view(options.kite.as_deref());
     term::run(app, options.mouse).map_err(|e| format!("terminal: {e}"))
 }
 

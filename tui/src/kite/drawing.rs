@@ -2,10 +2,12 @@
 //! top (world x-y) projections of every panel, the string from the
 //! attachment point, and the selected primitive's name.
 
-use super::design::{outlines, rotation, Analysis};
 use super::KiteView;
 use crate::theme::Theme;
 use nalgebra::Vector3;
+use omniad_kite::check::CheckReport;
+use omniad_kite::geometry::{panels, rotation_from_degrees};
+use omniad_kite::KiteSpec;
 use ratatui::buffer::Buffer;
 use ratatui::layout::Rect;
 use ratatui::style::Color;
@@ -41,8 +43,12 @@ pub fn render_drawing(v: &KiteView, proj: Projection, theme: Theme, area: Rect, 
     if inner.width < 2 || inner.height < 2 {
         return block.render(area, buf);
     }
-    let r = rotation(&v.design.orientation);
-    let shapes: Vec<(usize, [Vector3<f64>; 4])> = outlines(&v.design)
+    let r = rotation_from_degrees(&v.spec.orientation);
+    let center = v
+        .design
+        .as_ref()
+        .map_or(Vector3::zeros(), |d| d.mass.center);
+    let shapes: Vec<(usize, [Vector3<f64>; 4])> = outlines(&v.spec, &center)
         .into_iter()
         .map(|(i, c)| (i, c.map(|p| r * p)))
         .collect();
@@ -83,6 +89,23 @@ pub fn render_drawing(v: &KiteView, proj: Projection, theme: Theme, area: Rect, 
         .render(area, buf);
 }
 
+/// Every covered face of the kite crate's geometry: the index of its
+/// primitive and four corners, body frame, relative to `center` (the
+/// centre of mass), m.
+fn outlines(spec: &KiteSpec, center: &Vector3<f64>) -> Vec<(usize, [Vector3<f64>; 4])> {
+    let mut out = Vec::new();
+    for (i, p) in spec.primitives.iter().enumerate() {
+        for f in panels(p) {
+            let c = f.center - center;
+            out.push((
+                i,
+                [c - f.u - f.v, c + f.u - f.v, c + f.u + f.v, c - f.u + f.v],
+            ));
+        }
+    }
+    out
+}
+
 fn draw_outline(ctx: &mut Context<'_>, c: &[Vector3<f64>; 4], proj: Projection, color: Color) {
     for k in 0..4 {
         let (x1, y1) = project(&c[k], proj);
@@ -95,18 +118,19 @@ fn draw_outline(ctx: &mut Context<'_>, c: &[Vector3<f64>; 4], proj: Projection, 
 /// tension the string exerts on the kite).
 fn draw_string(
     ctx: &mut Context<'_>,
-    a: &Analysis,
+    a: &CheckReport,
     r: &nalgebra::Matrix3<f64>,
     proj: Projection,
     ext: f64,
     color: Color,
 ) {
-    let n = a.tension.norm();
+    let tension = Vector3::from(a.tension_world);
+    let n = tension.norm();
     if n <= 0.0 {
         return;
     }
-    let p = r * a.attachment;
-    let q = p + a.tension / n * ext * 2.0;
+    let p = r * Vector3::from(a.attachment);
+    let q = p + tension / n * ext * 2.0;
     let ((x1, y1), (x2, y2)) = (project(&p, proj), project(&q, proj));
     ctx.draw(&CLine::new(x1, y1, x2, y2, color));
     ctx.print(x1, y1, "o");

@@ -1,13 +1,18 @@
-//! View 2: kite design (KiteShop, paper §7). Edit primitives with keys;
-//! the equilibrium numbers and stability eigenvalues update live.
+//! View 2: kite design (KiteShop, paper §7). The view edits the kite
+//! crate's own kite file model ([`KiteSpec`]) with keys; after every edit
+//! the kite is assembled and checked by `omniad_kite::check::check`, the
+//! function `omniad kite check` runs, so the numbers shown are its numbers.
+//! Only view state (selection, tool, axis, message) lives here.
 
-pub mod design;
 pub mod drawing;
+pub mod edit;
 pub mod files;
 pub mod view;
 
-use design::{Analyser, Analysis, Design, Kind, Part};
+use omniad_kite::check::CheckReport;
+use omniad_kite::{Design, KiteSpec, Library};
 use ratatui::crossterm::event::{KeyCode, KeyEvent};
+use std::path::PathBuf;
 
 /// What the arrow keys change.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -33,8 +38,8 @@ impl Tool {
 
 /// The kite view's state.
 pub struct KiteView {
-    /// The design.
-    pub design: Design,
+    /// The kite file being edited (the kite crate's model).
+    pub spec: KiteSpec,
     /// Selected primitive.
     pub selected: usize,
     /// Active tool.
@@ -45,34 +50,78 @@ pub struct KiteView {
     pub path: String,
     /// Last message (saved, error).
     pub message: String,
-    /// Latest analysis.
-    pub analysis: Result<Analysis, String>,
-    analyser: Box<dyn Analyser>,
+    /// Why the kite file at `path` did not load. Then the view shows this
+    /// instead of a kite, ignores edits, and never saves over the file.
+    pub load_error: Option<String>,
+    /// The assembled kite (coefficients, mass, panels), or why not.
+    pub design: Result<Design, String>,
+    /// `kite check`'s report on [`Self::design`], or why there is none.
+    pub analysis: Result<CheckReport, String>,
+    library: Result<Library, String>,
+    base: PathBuf,
 }
 
 impl KiteView {
-    /// A view of `design`, analysed by `analyser`, saving to `path`.
-    pub fn new(design: Design, analyser: Box<dyn Analyser>, path: String) -> Self {
-        let analysis = analyser.analyse(&design);
-        Self {
-            design,
+    /// A view of `spec` (object files relative to `base`), assembled with
+    /// `library`, saving to `path`.
+    pub fn new(
+        spec: KiteSpec,
+        library: Result<Library, String>,
+        base: PathBuf,
+        path: String,
+    ) -> Self {
+        let mut v = Self {
+            spec,
             selected: 0,
             tool: Tool::Move,
             axis: 0,
             path,
             message: String::new(),
-            analysis,
-            analyser,
-        }
+            load_error: None,
+            design: Err(String::new()),
+            analysis: Err(String::new()),
+            library,
+            base,
+        };
+        v.reanalyse();
+        v
     }
 
-    /// Recomputes the analysis.
+    /// The view of a kite file at `path` that did not load (`error`): it
+    /// shows the error and is not a save target.
+    pub fn unloadable(placeholder: KiteSpec, path: String, error: String) -> Self {
+        let mut v = Self::new(placeholder, Err(error.clone()), PathBuf::from("."), path);
+        v.design = Err(error.clone());
+        v.analysis = Err(error.clone());
+        v.load_error = Some(error);
+        v
+    }
+
+    /// Assembles and checks the spec again (as `omniad kite check` would
+    /// the saved file).
     pub fn reanalyse(&mut self) {
-        self.analysis = self.analyser.analyse(&self.design);
+        if self.load_error.is_some() {
+            return;
+        }
+        self.design = match &self.library {
+            Ok(lib) => self
+                .spec
+                .validate()
+                .and_then(|()| Design::assemble(self.spec.clone(), &self.base, lib))
+                .map_err(|e| format!("{e:#}")),
+            Err(e) => Err(e.clone()),
+        };
+        self.analysis = match &self.design {
+            Ok(d) => omniad_kite::check::check(d, None).map_err(|e| format!("{e:#}")),
+            Err(e) => Err(e.clone()),
+        };
     }
 
     /// Handles a key; returns whether it was used.
     pub fn on_key(&mut self, key: KeyEvent) -> bool {
+        if self.load_error.is_some() {
+            return key.code == KeyCode::Char('w') && self.save();
+        }
         let used = match key.code {
             KeyCode::Up => self.select(-1),
             KeyCode::Down => self.select(1),
@@ -88,108 +137,20 @@ impl KiteView {
         used
     }
 
-    fn on_char(&mut self, c: char) -> bool {
-        let d = &mut self.design;
-        match c {
-            'k' => return self.select(-1),
-            'j' => return self.select(1),
-            'h' => return self.adjust(-1.0),
-            'l' => return self.adjust(1.0),
-            'a' => self.add(Kind::Plate),
-            'b' => self.add(Kind::Box),
-            'm' => self.tool = Tool::Move,
-            'r' => self.tool = Tool::Rotate,
-            's' => self.tool = Tool::Scale,
-            'x' => self.axis = 0,
-            'y' => self.axis = 1,
-            'z' => self.axis = 2,
-            '[' => d.orientation[1] -= 2.0,
-            ']' => d.orientation[1] += 2.0,
-            '{' => d.wind_speed = (d.wind_speed - 0.5).max(0.5),
-            '}' => d.wind_speed = (d.wind_speed + 0.5).min(40.0),
-            ',' => d.offset -= 0.02,
-            '.' => d.offset += 0.02,
-            'w' => self.save(),
-            _ => return false,
-        }
-        true
-    }
-
-    fn select(&mut self, step: isize) -> bool {
-        let n = self.design.parts.len();
-        if n > 0 {
-            self.selected = self.selected.saturating_add_signed(step).min(n - 1);
-        }
-        true
-    }
-
-    fn adjust(&mut self, sign: f64) -> bool {
-        let (tool, axis) = (self.tool, self.axis);
-        let Some(p) = self.design.parts.get_mut(self.selected) else {
-            return false;
-        };
-        let Some(slot) = (match tool {
-            Tool::Move => p.position.get_mut(axis),
-            Tool::Rotate => p.rotation.get_mut(axis),
-            Tool::Scale => p.size.get_mut(axis),
-        }) else {
-            return false;
-        };
-        *slot = match tool {
-            Tool::Move => *slot + 0.01 * sign,
-            Tool::Rotate => (*slot + 5.0 * sign + 180.0).rem_euclid(360.0) - 180.0,
-            Tool::Scale if *slot == 0.0 => 0.0,
-            Tool::Scale => (*slot * 1.1f64.powf(sign)).clamp(0.01, 10.0),
+    /// Writes the spec to `path` (atomically); refuses when the file
+    /// there did not load, so a user's file is never replaced by a kite
+    /// they were not shown.
+    fn save(&mut self) -> bool {
+        self.message = match &self.load_error {
+            Some(_) => format!(
+                "not saved: {} did not load; fix it or open another file",
+                self.path
+            ),
+            None => match self.spec.save(std::path::Path::new(&self.path)) {
+                Ok(()) => format!("saved {}", self.path),
+                Err(e) => format!("cannot save {}: {e:#}", self.path),
+            },
         };
         true
-    }
-
-    fn add(&mut self, kind: Kind) {
-        let base = self.design.parts.get(self.selected).cloned();
-        let mut p = base.unwrap_or(Part {
-            name: String::new(),
-            kind,
-            size: [0.3, 0.3, 0.0],
-            position: [0.0; 3],
-            rotation: [0.0; 3],
-            extra: String::new(),
-        });
-        p.extra.clear();
-        p.kind = kind;
-        p.size[2] = if kind == Kind::Plate {
-            0.0
-        } else {
-            p.size[0].min(p.size[1]) / 2.0
-        };
-        p.position[2] += 0.1;
-        p.name = (1..)
-            .map(|i| format!("{}-{i}", kind.name()))
-            .find(|n| self.unused(n))
-            .unwrap_or_default();
-        self.design
-            .parts
-            .insert((self.selected + 1).min(self.design.parts.len()), p);
-        self.selected = (self.selected + 1).min(self.design.parts.len() - 1);
-    }
-
-    fn unused(&self, name: &str) -> bool {
-        self.design.parts.iter().all(|p| p.name != name)
-    }
-
-    fn remove(&mut self) -> bool {
-        if self.selected < self.design.parts.len() && self.design.parts.len() > 1 {
-            self.design.parts.remove(self.selected);
-            self.selected = self.selected.min(self.design.parts.len() - 1);
-        } else {
-            self.message = "a kite keeps at least one primitive".into();
-        }
-        true
-    }
-
-    fn save(&mut self) {
-        self.message = match std::fs::write(&self.path, self.design.to_toml()) {
-            Ok(()) => format!("saved {}", self.path),
-            Err(e) => format!("cannot save {}: {e}", self.path),
-        };
     }
 }

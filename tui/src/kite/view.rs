@@ -1,11 +1,10 @@
 //! Drawing the kite design view: primitive list, the selected
 //! primitive's numbers, equilibrium numbers and the eigenvalue bars.
 
-use super::design::Analysis;
 use super::drawing::{render_drawing, Projection};
 use super::{KiteView, Tool};
 use crate::theme::Theme;
-use nalgebra::Vector3;
+use omniad_kite::check::{AxisReport, CheckReport};
 use ratatui::buffer::Buffer;
 use ratatui::layout::{Constraint, Layout, Rect};
 use ratatui::style::Style;
@@ -23,10 +22,13 @@ pub struct KiteWidget<'a> {
 impl Widget for KiteWidget<'_> {
     fn render(self, area: Rect, buf: &mut Buffer) {
         let (v, theme) = (self.view, self.theme);
+        if let Some(e) = &v.load_error {
+            return render_load_error(v, e, theme, area, buf);
+        }
         let [left, right] =
             Layout::horizontal([Constraint::Percentage(45), Constraint::Percentage(55)])
                 .areas(area);
-        let rows = (v.design.parts.len() as u16 + 2).clamp(3, 10);
+        let rows = (v.spec.primitives.len() as u16 + 2).clamp(3, 10);
         let [list, detail, side] = Layout::vertical([
             Constraint::Length(rows),
             Constraint::Length(7),
@@ -56,14 +58,33 @@ impl Widget for KiteWidget<'_> {
     }
 }
 
-fn v3(v: &Vector3<f64>, prec: usize) -> String {
-    format!("({:+.p$} {:+.p$} {:+.p$})", v.x, v.y, v.z, p = prec)
+fn v3(v: &[f64; 3], prec: usize) -> String {
+    format!("({:+.p$} {:+.p$} {:+.p$})", v[0], v[1], v[2], p = prec)
+}
+
+/// A kite file that did not load: the error, and that `w` will not save
+/// over it.
+fn render_load_error(v: &KiteView, error: &str, theme: Theme, area: Rect, buf: &mut Buffer) {
+    let lines = vec![
+        Line::styled(format!("cannot open kite file {}", v.path), theme.bad()),
+        Line::raw(error.to_string()),
+        Line::raw(""),
+        Line::styled(
+            "Nothing is shown or saved for it (w will not write over it); fix the file and start again.",
+            theme.dim(),
+        ),
+        Line::styled(v.message.clone(), theme.dim()),
+    ];
+    Paragraph::new(lines)
+        .wrap(Wrap { trim: true })
+        .block(Block::bordered().title(Line::styled(" kite file ", theme.title())))
+        .render(area, buf);
 }
 
 fn render_list(v: &KiteView, theme: Theme, area: Rect, buf: &mut Buffer) {
-    let title = format!(" {} · primitives ", v.design.name);
+    let title = format!(" {} · primitives ", v.spec.name);
     let mut lines = Vec::new();
-    for (i, p) in v.design.parts.iter().enumerate() {
+    for (i, p) in v.spec.primitives.iter().enumerate() {
         let sel = i == v.selected;
         let mark = if sel { "▶ " } else { "  " };
         let [a, b, c] = p.size;
@@ -87,7 +108,7 @@ fn render_list(v: &KiteView, theme: Theme, area: Rect, buf: &mut Buffer) {
 }
 
 fn render_detail(v: &KiteView, theme: Theme, area: Rect, buf: &mut Buffer) {
-    let Some(p) = v.design.parts.get(v.selected) else {
+    let Some(p) = v.spec.primitives.get(v.selected) else {
         return;
     };
     let row = |label: &'static str, t: Tool, a: &[f64; 3], unit: &'static str| {
@@ -123,8 +144,8 @@ fn render_detail(v: &KiteView, theme: Theme, area: Rect, buf: &mut Buffer) {
         .render(area, buf);
 }
 
-fn render_equilibrium(v: &KiteView, a: &Analysis, theme: Theme, area: Rect, buf: &mut Buffer) {
-    let d = &v.design;
+fn render_equilibrium(v: &KiteView, a: &CheckReport, theme: Theme, area: Rect, buf: &mut Buffer) {
+    let d = &v.spec;
     let (ok, bad) = (theme.good(), theme.bad());
     let pulls = if a.pulls_down {
         Span::styled("✓ pulls down", ok)
@@ -134,19 +155,22 @@ fn render_equilibrium(v: &KiteView, a: &Analysis, theme: Theme, area: Rect, buf:
     let lines = vec![
         Line::raw(format!(
             "wind {:.1} m/s  ρ {:.2}  pitch {:+.0}°  M {:.1} g",
-            d.wind_speed,
-            d.air_density,
+            d.wind.speed,
+            d.wind.air_density,
             d.orientation[1],
             a.mass * 1000.0
         )),
         Line::from(vec![
-            Span::raw(format!("tension {} N ", v3(&a.tension, 2))),
+            Span::raw(format!("tension {} N ", v3(&a.tension_world, 2))),
             pulls,
         ]),
-        Line::raw(format!("|T| {:.3} N", a.tension.norm())),
-        Line::raw(format!("torque {} N·m", v3(&a.torque, 4))),
+        Line::raw(format!("|T| {:.3} N", a.tension)),
+        Line::raw(format!("torque {} N·m", v3(&a.unbalanced_torque, 4))),
         Line::raw(format!("attach P {} m", v3(&a.attachment, 3))),
-        Line::raw(format!("γ {:.4} m/N  offset {:+.2} m", a.gamma, d.offset)),
+        Line::raw(format!(
+            "γ {:.4} m/N  offset {:+.2} m",
+            a.gamma, a.attachment_offset
+        )),
     ];
     Paragraph::new(lines)
         .wrap(Wrap { trim: true })
@@ -180,19 +204,30 @@ pub fn eigen_bar(value: f64, scale: f64, half: usize) -> String {
     }
 }
 
-fn render_eigen(a: &Analysis, theme: Theme, area: Rect, buf: &mut Buffer) {
-    let scale = a.axes.iter().map(|x| x.0.abs()).fold(0.0, f64::max);
+fn render_eigen(a: &CheckReport, theme: Theme, area: Rect, buf: &mut Buffer) {
+    let scale = a
+        .axes
+        .iter()
+        .map(|x| x.eigenvalue.abs())
+        .fold(0.0, f64::max);
     let half = (area.width.saturating_sub(30) / 2).clamp(2, 20) as usize;
     let mut lines = Vec::new();
-    for (i, (val, axis)) in a.axes.iter().enumerate() {
-        let (st, verdict) = if *val < 0.0 {
+    for (
+        i,
+        AxisReport {
+            eigenvalue, axis, ..
+        },
+    ) in a.axes.iter().enumerate()
+    {
+        let val = *eigenvalue;
+        let (st, verdict) = if val < 0.0 {
             (theme.good(), "✓ stable")
         } else {
             (theme.bad(), "✗ UNSTABLE")
         };
         lines.push(Line::from(vec![
             Span::raw(format!("λ{} {val:+.4} ", i + 1)),
-            Span::styled(eigen_bar(*val, scale, half), st),
+            Span::styled(eigen_bar(val, scale, half), st),
             Span::styled(verdict, st),
         ]));
         lines.push(Line::styled(
@@ -200,7 +235,7 @@ fn render_eigen(a: &Analysis, theme: Theme, area: Rect, buf: &mut Buffer) {
             theme.dim(),
         ));
     }
-    let all = a.axes.iter().all(|x| x.0 < 0.0);
+    let all = a.axes.iter().all(|x| x.eigenvalue < 0.0);
     let title = if all {
         " stability N·m/rad: stable "
     } else {

@@ -2,18 +2,14 @@
 //! the air density, size and mass/inertia controls, and a switch between
 //! OmniAD and a drag-only comparison model.
 
-pub mod tether;
+pub mod tethered;
 pub mod view;
 pub mod world;
 
-use crate::kite::design::{Analysis, Design};
 use crate::models::Model;
 use ratatui::crossterm::event::{KeyCode, KeyEvent};
-use tether::Tethered;
+use tethered::Tethered;
 use world::{Params, World};
-
-/// Line length of the tethered kite, m.
-pub const LINE_LENGTH: f64 = 10.0;
 
 /// Seed of the bodies' initial states (fixed: reproducible runs).
 pub const SEED: u64 = 14;
@@ -61,12 +57,10 @@ impl SimView {
     }
 
     /// Switches between the falling bodies and the kite of `design` on
-    /// a line in gusts (the kite's panels use `plate`).
-    pub fn toggle_kite(&mut self, design: &Design, analysis: Option<&Analysis>) {
-        self.kite = match (self.kite.take(), analysis, self.models.first()) {
-            (None, Some(a), Some(m)) => {
-                Some(Tethered::new(design, a, &m.coefficients, LINE_LENGTH))
-            }
+    /// its line in gusts (the kite crate's flight model).
+    pub fn toggle_kite(&mut self, design: Option<&omniad_kite::Design>) {
+        self.kite = match (self.kite.take(), design) {
+            (None, Some(d)) => Tethered::new(d),
             _ => None,
         };
     }
@@ -94,6 +88,7 @@ impl SimView {
                 'U' => k.wind = (k.wind + 0.5).min(30.0),
                 _ => return self.on_common_key(c),
             }
+            k.retune();
             return true;
         }
         self.on_common_key(c)

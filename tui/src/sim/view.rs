@@ -1,9 +1,9 @@
 //! Drawing the falling bodies: side (x-z) and top (x-y) projections in
 //! braille, and the control panel.
 
-use super::tether::{gusty_wind, Tethered};
+use super::tethered::Tethered;
 use super::world::{HALF_WIDTH, SPAWN_Z};
-use super::{SimView, LINE_LENGTH};
+use super::SimView;
 use crate::theme::Theme;
 use ratatui::buffer::Buffer;
 use ratatui::layout::{Constraint, Layout, Rect};
@@ -165,14 +165,16 @@ fn render_kite(k: &Tethered, proj: Proj, theme: Theme, area: Rect, buf: &mut Buf
     } else {
         " kite top x-y "
     };
-    let r = LINE_LENGTH * 1.2;
+    let line = k.flight.line();
+    let r = line.length * 1.2;
     let (ylo, yhi) = if proj == Proj::Side {
         (-0.5, r)
     } else {
         (-r / 2.0, r / 2.0)
     };
     let trail: Vec<(f64, f64)> = k.trail.iter().map(|p| flat(p, proj)).collect();
-    let (x, y) = flat(&k.state.position, proj);
+    let (x, y) = flat(&k.position(), proj);
+    let (ax, ay) = flat(&line.anchor, proj);
     Canvas::default()
         .block(Block::bordered().title(Line::styled(title, theme.title())))
         .marker(Marker::Braille)
@@ -184,27 +186,27 @@ fn render_kite(k: &Tethered, proj: Proj, theme: Theme, area: Rect, buf: &mut Buf
                 color: theme.dim().fg.unwrap_or_default(),
             });
             ctx.draw(&CLine::new(
-                0.0,
-                0.0,
+                ax,
+                ay,
                 x,
                 y,
                 theme.series(0).fg.unwrap_or_default(),
             ));
-            ctx.print(0.0, 0.0, "▲");
+            ctx.print(ax, ay, "▲");
             ctx.print(x, y, Line::styled("◆", theme.series(1)));
         })
         .render(area, buf);
 }
 
 fn render_kite_controls(v: &SimView, k: &Tethered, theme: Theme, area: Rect, buf: &mut Buffer) {
-    let w = gusty_wind(k.wind, k.gust, k.time);
+    let w = k.flight.wind_now();
     let key = |s: &'static str| Span::styled(s, theme.key());
     let state = if v.running {
         "▶ running"
     } else {
         "⏸ paused"
     };
-    let p = k.state.position;
+    let p = k.position();
     let lines = vec![
         Line::from(vec![
             Span::styled(state, theme.title()),
@@ -218,7 +220,7 @@ fn render_kite_controls(v: &SimView, k: &Tethered, theme: Theme, area: Rect, buf
             key("u/U"),
             Span::raw(format!("  gusts ±{:.0}% ", 100.0 * k.gust)),
             key("g/G"),
-            Span::raw(format!("  line {LINE_LENGTH:.0} m")),
+            Span::raw(format!("  line {:.0} m", k.flight.line().length)),
         ]),
         Line::from(vec![
             Span::raw("bodies "),
