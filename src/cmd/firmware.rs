@@ -7,7 +7,7 @@
 
 use anyhow::{bail, Result};
 use clap::{Args, Subcommand};
-use omniad_fw_host::{firmware_dir, replay, write_telemetry_csv, Report, ReplayOptions};
+use omniad_fw_host::{firmware_dir, replay, write_telemetry_csv, ReplayOptions, Report};
 use std::path::PathBuf;
 use std::time::Duration;
 
