@@ -14,7 +14,7 @@ use crate::report::{
 };
 use crate::wire::wire_bytes;
 use anyhow::{anyhow, bail, Context, Result};
-use omniad_core::file::{self, MAX_FILE_SIZE};
+use omniad_core::file::{self, FileError, MAX_FILE_SIZE};
 use omniad_core::Coefficients;
 use omniad_fw_pipeline::{ExitCode, Summary, Telemetry};
 use std::collections::BTreeMap;
@@ -67,35 +67,13 @@ impl Replay {
 /// coefficient file, no QEMU); a firmware error or a disagreement is a
 /// finished replay whose [`Replay::failure`] says so.
 pub fn replay(o: &ReplayOptions) -> Result<Replay> {
-    let frames = match o.log.extension().is_some_and(|e| e == "bin") {
-        true => None,
-        false => Some(read_log(&o.log, o.max_frames)?),
-    };
-    let wire = match &frames {
-        Some(f) => wire_bytes(f, o.garbage)?,
-        None => read(&o.log, MAX_WIRE_BYTES)?,
-    };
+    // The log first: a broken input fails before a long firmware build.
+    let (log_rows, wire) = log_on_the_wire(o)?;
     if o.build {
         build_firmware(&o.firmware_dir)?;
     }
-    let replay_path = elf_path(&o.firmware_dir, "replay");
-    let elf_bytes = std::fs::read(&replay_path).with_context(|| {
-        format!(
-            "cannot read {} (build the firmware first)",
-            replay_path.display()
-        )
-    })?;
-    let elf = Elf::parse(&elf_bytes)?;
-    let kite = match &o.kite {
-        Some(p) => read(p, MAX_FILE_SIZE)?,
-        None => embedded_kite(&elf_bytes, &elf)?,
-    };
-    let host_model = file::decode::<f32>(&kite);
-    if let (true, Err(e)) = (o.check_kite, &host_model) {
-        bail!("coefficient file: {e}");
-    }
-    let fw_elf = with_kite(o, elf_bytes, &kite)?;
-    let run = run_firmware(&fw_elf, &wire, o.timeout)?;
+    let fw = Firmware::load(o)?;
+    let run = run_firmware(&fw.image, &wire, o.timeout)?;
     let mut report = Report {
         log: o.log.display().to_string(),
         kite: o
@@ -106,24 +84,73 @@ pub fn replay(o: &ReplayOptions) -> Result<Replay> {
         firmware_error: None,
         firmware_seconds: run.seconds,
         wire_bytes: wire.len(),
-        log_rows: frames.as_ref().map(Vec::len),
+        log_rows,
         measured: None,
     };
     if run.exit_code != 0 {
         let code = ExitCode::from_status(run.exit_code);
         report.firmware_error = Some(code.map_or("unexpected exit", ExitCode::describe));
     } else {
-        let mut model = host_model.map_err(|e| anyhow!("coefficient file: {e}"))?;
+        let mut model = fw.model.map_err(|e| anyhow!("coefficient file: {e}"))?;
         // The firmware runs the core's portable path; the host compares
         // against that same path (its SIMD path agrees only to rounding).
         model.set_portable(true);
-        report.measured = Some(measure(o, &model, &elf, &kite, &wire, &run)?);
+        report.measured = Some(measure(o, &model, &fw.elf, &fw.kite, &wire, &run)?);
     }
     Ok(Replay {
         report,
         telemetry: run.telemetry,
         console: run.console,
     })
+}
+
+/// The log's rows (none for a `.bin` log) and the bytes sent to the
+/// firmware.
+fn log_on_the_wire(o: &ReplayOptions) -> Result<(Option<usize>, Vec<u8>)> {
+    if o.log.extension().is_some_and(|e| e == "bin") {
+        return Ok((None, read(&o.log, MAX_WIRE_BYTES)?));
+    }
+    let frames = read_log(&o.log, o.max_frames)?;
+    Ok((Some(frames.len()), wire_bytes(&frames, o.garbage)?))
+}
+
+/// The replay firmware as it will run.
+struct Firmware {
+    /// The built ELF, parsed (sizes and symbols do not change by patching).
+    elf: Elf,
+    /// The ELF to run: the built one, with `--kite`'s file in flash.
+    image: Vec<u8>,
+    /// The coefficient file in its flash.
+    kite: Vec<u8>,
+    /// That file decoded on the host.
+    model: Result<Coefficients<f32>, FileError>,
+}
+
+impl Firmware {
+    /// Reads the built replay ELF and puts the coefficient file in it;
+    /// refuses a file the host cannot decode unless told not to check.
+    fn load(o: &ReplayOptions) -> Result<Self> {
+        let path = elf_path(&o.firmware_dir, "replay");
+        let built = std::fs::read(&path).with_context(|| {
+            format!("cannot read {} (build the firmware first)", path.display())
+        })?;
+        let elf = Elf::parse(&built)?;
+        let kite = match &o.kite {
+            Some(p) => read(p, MAX_FILE_SIZE)?,
+            None => embedded_kite(&built, &elf)?,
+        };
+        let model = file::decode::<f32>(&kite);
+        if let (true, Err(e)) = (o.check_kite, &model) {
+            bail!("coefficient file: {e}");
+        }
+        let image = with_kite(o, built, &kite)?;
+        Ok(Self {
+            elf,
+            image,
+            kite,
+            model,
+        })
+    }
 }
 
 /// Reads a user's file, at most `max` bytes.

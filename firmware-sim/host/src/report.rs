@@ -5,7 +5,7 @@ use crate::compare::Agreement;
 use serde::Serialize;
 
 /// Budgets of issue 6 (one instruction per cycle assumed).
-pub mod budget {
+mod budget {
     /// Flash, bytes.
     pub const FLASH: u64 = 128 * 1024;
     /// RAM including the stack, bytes.
