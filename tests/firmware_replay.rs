@@ -38,25 +38,16 @@ fn firmware_ready() -> bool {
             return false;
         }
         let dir = root().join("firmware-sim");
-        let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
-        let out = Command::new(cargo)
-            .current_dir(&dir)
-            .args(["build", "--release", "--bins", "--target-dir"])
-            .arg(dir.join("target"))
-            .env_remove("CARGO_TARGET_DIR")
-            .env_remove("CARGO_BUILD_TARGET")
-            .env_remove("RUSTFLAGS")
-            .env_remove("CARGO_ENCODED_RUSTFLAGS")
-            .output()
-            .expect("run cargo for the firmware");
-        let err = String::from_utf8_lossy(&out.stderr);
-        if !out.status.success() && err.contains("thumbv7em-none-eabihf") && err.contains("target may not be installed") {
+        let Err(e) = omniad_fw_host::build_firmware(&dir) else {
+            return true;
+        };
+        let err = format!("{e:#}");
+        if err.contains("thumbv7em-none-eabihf") && err.contains("target may not be installed") {
             assert!(!ci, "the thumbv7em-none-eabihf target is missing (run scripts/ci-deps.sh)");
             eprintln!("NOTICE: thumbv7em-none-eabihf not installed: firmware tests skipped");
             return false;
         }
-        assert!(out.status.success(), "firmware build failed:\n{err}");
-        true
+        panic!("{err}");
     })
 }
 
@@ -225,6 +216,9 @@ fn other_kite_file_and_corrupt_kite_file() {
     bytes[40] ^= 0x10;
     let bad = temp("bad.omni");
     std::fs::write(&bad, &bytes).unwrap();
+    // A failed replay leaves a CSV already there as it was.
+    let csv = temp("kept.csv");
+    std::fs::write(&csv, "kept\n").unwrap();
     let (ok, r, _) = replay(&[
         CYCLE,
         "--max-frames",
@@ -232,8 +226,11 @@ fn other_kite_file_and_corrupt_kite_file() {
         "--kite",
         bad.to_str().unwrap(),
         "--unchecked-kite",
+        "--csv",
+        csv.to_str().unwrap(),
     ]);
     assert!(!ok);
+    assert_eq!(std::fs::read_to_string(&csv).unwrap(), "kept\n");
     assert_eq!(r["firmware_exit_code"].as_i64(), Some(13), "{r:#}");
     assert_eq!(r["firmware_error"].as_str(), Some("CRC mismatch"));
     // Without --unchecked-kite the host refuses it before QEMU runs.
@@ -280,4 +277,48 @@ fn synthetic_log_with_nan_and_out_of_range_rows() {
         "{}",
         r["agreement"]
     );
+}
+
+#[test]
+fn non_finite_time_row_is_rejected_naming_the_line() {
+    // No firmware needed: the log is read before anything is built or run.
+    let head = "time_s,qw,qx,qy,qz,p,q,r,airspeed,aoa_deg,tether_n,depower,steering\n";
+    let row = |t: &str| format!("{t},1,0,0,0,0.1,0.1,-0.2,22,8,3000,0.3,0\n");
+    let path = temp("nan-time.csv");
+    std::fs::write(&path, format!("{head}{}{}", row("0.1"), row("nan"))).unwrap();
+    let csv = temp("nan-time-telemetry.csv");
+    let (ok, _, err) = replay(&[path.to_str().unwrap(), "--csv", csv.to_str().unwrap()]);
+    assert!(!ok, "a NaN time must be an error");
+    assert!(
+        err.contains("line 3, column 1 (`time_s`)") && err.contains("time `NaN`"),
+        "{err}"
+    );
+    assert!(!csv.exists(), "nothing is written on failure");
+}
+
+#[test]
+fn diverging_model_agrees_and_its_telemetry_is_written() {
+    if !firmware_ready() {
+        return;
+    }
+    // A 48 g foam plate under a kite's kilonewton tether force: the RK4
+    // look-ahead overflows to NaN on both sides (with the hardware's own
+    // NaN bits: x86 makes negative NaNs, the Cortex-M4 positive ones).
+    let csv = temp("plate-telemetry.csv");
+    let (ok, r, err) = replay(&[
+        CYCLE,
+        "--kite",
+        "data/plate.omni",
+        "--max-frames",
+        "100",
+        "--csv",
+        csv.to_str().unwrap(),
+    ]);
+    assert!(ok, "{err}\n{r:#}");
+    let a = &r["agreement"];
+    assert_eq!(a["all_identical"], Value::Bool(true), "{a}");
+    assert_eq!(a["identical"].as_u64(), Some(100), "{a}");
+    assert_eq!(a["non_finite_records"].as_u64(), Some(100), "{a}");
+    let text = std::fs::read_to_string(&csv).unwrap();
+    assert_eq!(text.lines().count(), 101);
 }

@@ -6,7 +6,7 @@
 
 pub mod semihosting;
 
-use omniad_core::file::{FileError, HEADER_LEN, MAX_FILE_SIZE};
+use omniad_core::file::{HEADER_LEN, MAX_FILE_SIZE};
 
 /// Bytes reserved in flash for the coefficient file.
 pub const KITE_CAPACITY: usize = MAX_FILE_SIZE;
@@ -42,34 +42,6 @@ pub fn kite_file() -> &'static [u8] {
     };
     let total = len.saturating_add(HEADER_LEN + 4);
     region.get(..total).unwrap_or(region)
-}
-
-/// Semihosting exit codes (QEMU's exit status).
-pub mod exit_code {
-    use super::FileError;
-    /// Success.
-    pub const OK: u32 = 0;
-    /// The input file could not be opened.
-    pub const NO_INPUT: u32 = 2;
-    /// The output file could not be opened or written.
-    pub const OUTPUT: u32 = 3;
-    /// The coefficient file's mass properties are invalid.
-    pub const BAD_BODY: u32 = 20;
-    /// Coefficient file errors: 10 + kind.
-    pub const fn file_error(e: &FileError) -> u32 {
-        10 + match e {
-            FileError::BadMagic => 0,
-            FileError::UnknownVersion(_) => 1,
-            FileError::Truncated => 2,
-            FileError::CrcMismatch { .. } => 3,
-            FileError::TrailingBytes(_) => 4,
-            FileError::Malformed(_) => 5,
-            FileError::PayloadLength => 6,
-            FileError::BadCount(_) => 7,
-            FileError::Model(_) => 8,
-            FileError::BufferTooSmall => 9,
-        }
-    }
 }
 
 /// SysTick as a free-running 24-bit down-counter on the processor clock.
@@ -200,7 +172,7 @@ fn panic(_: &core::panic::PanicInfo) -> ! {
 #[cfg(debug_assertions)]
 #[panic_handler]
 fn panic(_: &core::panic::PanicInfo) -> ! {
-    semihosting::exit(101)
+    semihosting::exit(omniad_fw_pipeline::ExitCode::DebugPanic.status())
 }
 
 /// Writes `value` in decimal to the console.

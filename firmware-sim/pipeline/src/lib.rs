@@ -11,6 +11,8 @@
 //! * [`process`]: the per-frame computation (aerodynamic wrench, predicted
 //!   tether force and residual, stability eigenvalues, RK4 look-ahead).
 //! * [`kite`]: the default kite model embedded in the firmware.
+//! * [`exit`]: the firmware's exit codes, named once for the firmware and
+//!   the host harness.
 //! * [`eig`]: eigenvalues of a symmetric 3x3 matrix (cyclic Jacobi, sqrt
 //!   only, no trigonometry).
 //!
@@ -29,9 +31,11 @@
 
 pub mod cobs;
 pub mod eig;
+pub mod exit;
 pub mod frame;
 pub mod kite;
 pub mod process;
 
+pub use exit::ExitCode;
 pub use frame::{Deframer, Output, Reject, SensorFrame, Summary, Telemetry};
 pub use process::Processor;

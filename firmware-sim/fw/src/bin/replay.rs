@@ -4,16 +4,16 @@
 //! look-ahead and write one telemetry frame to `telemetry.bin`; finish
 //! with a summary frame (counts, stack high-water mark, instructions).
 //!
-//! Exit status: 0 ok, 2 no input, 3 output error, 10..19 coefficient file
-//! error (10 + kind, see `exit_code`), 20 bad mass properties.
+//! Exit status: `omniad_fw_pipeline::ExitCode` (0 ok, 2 no input, 3 output
+//! error, 10..19 coefficient file error (10 + kind), 20 bad mass properties).
 #![no_std]
 #![no_main]
 
 use cortex_m_rt::entry;
 use omniad_firmware::semihosting::{self, mode};
-use omniad_firmware::{calibrate, exit_code, instructions, kite_file, stack, systick};
+use omniad_firmware::{calibrate, instructions, kite_file, stack, systick};
 use omniad_fw_pipeline::frame::{encode_frame, Output, RejectCounts, Summary, MAX_FRAME};
-use omniad_fw_pipeline::{Deframer, Processor};
+use omniad_fw_pipeline::{Deframer, ExitCode, Processor};
 
 #[entry]
 fn main() -> ! {
@@ -21,35 +21,35 @@ fn main() -> ! {
     systick::start();
     let calib = calibrate();
     let code = run(calib);
-    semihosting::exit(code)
+    semihosting::exit(code.status())
 }
 
 #[inline(never)]
-fn run(calib: u32) -> u32 {
+fn run(calib: u32) -> ExitCode {
     // Decoded in place: exactly one copy of the model on the stack.
     let Ok(mut model) = omniad_core::Coefficients::<f32>::zeros(0, nalgebra::Vector3::z(), 1.0)
     else {
-        return exit_code::file_error(&omniad_core::file::FileError::BufferTooSmall);
+        return ExitCode::file_error(&omniad_core::file::FileError::BufferTooSmall);
     };
     if let Err(e) = omniad_core::file::decode_into(kite_file(), &mut model) {
         semihosting::console(b"omniad-firmware: invalid coefficient file in flash\n");
-        return exit_code::file_error(&e);
+        return ExitCode::file_error(&e);
     }
     frames(&model, calib)
 }
 
 #[inline(never)]
-fn frames(model: &omniad_core::Coefficients<f32>, calib: u32) -> u32 {
+fn frames(model: &omniad_core::Coefficients<f32>, calib: u32) -> ExitCode {
     let Ok(processor) = Processor::new(model) else {
         semihosting::console(b"omniad-firmware: invalid mass properties\n");
-        return exit_code::BAD_BODY;
+        return ExitCode::BadBody;
     };
     let Some(input) = semihosting::open(b"frames.bin\0", mode::READ_BINARY) else {
         semihosting::console(b"omniad-firmware: cannot open frames.bin\n");
-        return exit_code::NO_INPUT;
+        return ExitCode::NoInput;
     };
     let Some(output) = semihosting::open(b"telemetry.bin\0", mode::WRITE_BINARY) else {
-        return exit_code::OUTPUT;
+        return ExitCode::Output;
     };
 
     // Boot's stack peak, then paint again to measure frame processing alone.
@@ -84,10 +84,10 @@ fn frames(model: &omniad_core::Coefficients<f32>, calib: u32) -> u32 {
                     summary.total_frame_instructions += telemetry.instructions as u64;
                     summary.accepted += 1;
                     let Some(len) = encode_frame(&Output::Telemetry(telemetry), &mut out) else {
-                        return exit_code::OUTPUT;
+                        return ExitCode::Output;
                     };
                     if !semihosting::write(output, out.get(..len).unwrap_or(&[])) {
-                        return exit_code::OUTPUT;
+                        return ExitCode::Output;
                     }
                 }
             }
@@ -102,14 +102,14 @@ fn frames(model: &omniad_core::Coefficients<f32>, calib: u32) -> u32 {
     summary.stack_high_water = boot_peak.max(summary.stack_high_water_frames);
     summary.stack_capacity = stack::capacity();
     let Some(len) = encode_frame(&Output::Summary(summary), &mut out) else {
-        return exit_code::OUTPUT;
+        return ExitCode::Output;
     };
     let ok = semihosting::write(output, out.get(..len).unwrap_or(&[]));
     semihosting::close(output);
     semihosting::close(input);
     if ok {
-        exit_code::OK
+        ExitCode::Ok
     } else {
-        exit_code::OUTPUT
+        ExitCode::Output
     }
 }
