@@ -172,3 +172,15 @@ fn a_coefficient_file_is_replaced_whole_or_not_at_all() {
         .collect();
     assert_eq!(names.len(), 1, "no temporary left: {names:?}");
 }
+
+#[test]
+fn tui_telemetry_that_does_not_load_is_an_error_not_ignored() {
+    let out = omniad()
+        .args(["tui", "--telemetry", "/no/such/telemetry.csv"])
+        .stdin(Stdio::null())
+        .output()
+        .expect("run");
+    assert!(!out.status.success());
+    let err = stderr(&out);
+    assert!(err.contains("--telemetry /no/such/telemetry.csv"), "{err}");
+}

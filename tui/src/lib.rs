@@ -72,6 +72,9 @@ pub fn run(options: &Options) -> Result<(), String> {
         .collect::<Result<Vec<_>, _>>()?;
     let mut app = App::new(models, theme::Theme::from_env());
     app.kite = kite::files::kite_view(options.kite.as_deref());
+    if let Some(path) = &options.telemetry {
+        app.telemetry = telemetry::TelemetryView::load(path)?;
+    }
     term::run(app, options.mouse).map_err(|e| format!("terminal: {e}"))
 }
 

@@ -8,6 +8,8 @@ use ratatui::crossterm::event::{KeyCode, KeyEvent};
 
 /// The bundled log: Kitepower 2019-10-08, pumping cycle 1.
 pub const BUNDLED: &str = include_str!("../../../data/flight/kitepower-2019-10-08-cycle1.csv");
+/// Largest telemetry file read, bytes.
+pub const MAX_LOG_BYTES: usize = 256 << 20;
 /// Display frame rate while replaying, Hz.
 pub const FRAME_HZ: f64 = 30.0;
 
@@ -28,13 +30,18 @@ impl FlightLog {
             .next()
             .unwrap_or("")
             .split(',')
-            .map(|s| s.trim().to_string())
+            .map(|s| s.trim().trim_end_matches('\r').to_string())
             .collect();
         let rows = lines
             .filter(|l| !l.trim().is_empty())
             .map(|l| {
                 l.split(',')
-                    .map(|v| v.trim().parse::<f64>().unwrap_or(f64::NAN))
+                    .map(|v| {
+                        v.trim()
+                            .trim_end_matches('\r')
+                            .parse::<f64>()
+                            .unwrap_or(f64::NAN)
+                    })
                     .collect()
             })
             .collect();
@@ -87,6 +94,25 @@ impl TelemetryView {
             "replay: Kitepower 2019-10-08 cycle 1 (CC-BY 4.0)".into(),
             FlightLog::parse(BUNDLED),
         )
+    }
+
+    /// The log at `path` (a Kitepower cycle file or excerpt, the firmware's
+    /// `--csv` output, or any CSV with a time column first); an unreadable
+    /// or empty file is an error naming it — never a silent fallback to the
+    /// bundled log.
+    pub fn load(path: &str) -> Result<Self, String> {
+        let bytes = omniad_io::read_capped(std::path::Path::new(path), MAX_LOG_BYTES)
+            .map_err(|e| format!("--telemetry {path}: {e}"))?;
+        let text =
+            String::from_utf8(bytes).map_err(|_| format!("--telemetry {path}: not UTF-8 text"))?;
+        let log = FlightLog::parse(text.strip_prefix('\u{feff}').unwrap_or(&text));
+        if log.rows.is_empty() {
+            return Err(format!("--telemetry {path}: no data rows"));
+        }
+        let name = std::path::Path::new(path)
+            .file_name()
+            .map_or(path.into(), |n| n.to_string_lossy().into_owned());
+        Ok(Self::new(format!("replay: {name}"), log))
     }
 
     /// A paused replay of `log`, one minute in (or half-way through a
@@ -148,5 +174,64 @@ impl TelemetryView {
             _ => return false,
         }
         true
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn write(text: &str) -> (tempfile::TempDir, String) {
+        let dir = tempfile::tempdir().unwrap();
+        let p = dir.path().join("log.csv");
+        std::fs::write(&p, text).unwrap();
+        (dir, p.to_string_lossy().into_owned())
+    }
+
+    #[test]
+    fn a_firmware_log_shows_measured_predicted_and_residual_tension() {
+        let (_d, p) = write(
+            "time_ms,force_x,force_y,force_z,tether_predicted,tether_residual\r\n\
+             0,1,2,2,3000,500\r\n100,1,2,2,3100,-100\r\n",
+        );
+        let v = TelemetryView::load(&p).unwrap();
+        let labels: Vec<_> = v.series.iter().map(|s| s.label).collect();
+        assert_eq!(
+            labels,
+            [
+                "|force|",
+                "tether measured",
+                "tether predicted",
+                "tether residual"
+            ]
+        );
+        let row = &v.log.rows[1];
+        assert_eq!(
+            v.series[1].value(row),
+            3200.0,
+            "measured = predicted - residual"
+        );
+        assert!(v.source.contains("log.csv"));
+    }
+
+    #[test]
+    fn a_missing_or_empty_log_is_an_error_naming_it() {
+        let (_d, p) = write("a,b\n");
+        let e = TelemetryView::load(&p).unwrap_err();
+        assert!(e.contains("log.csv") && e.contains("no data rows"), "{e}");
+        let e = TelemetryView::load("/no/such/log.csv").unwrap_err();
+        assert!(e.contains("/no/such/log.csv"), "{e}");
+    }
+
+    #[test]
+    fn a_whole_kitepower_cycle_file_replays_by_its_own_column_names() {
+        let p = concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/../data/flight/kitepower-2019-10-08/20191008_0001.csv"
+        );
+        let v = TelemetryView::load(p).unwrap();
+        let labels: Vec<_> = v.series.iter().map(|s| s.label).collect();
+        assert!(labels.contains(&"tether force") && labels.contains(&"apparent wind"));
+        assert!((v.duration() - 133.8).abs() < 1.0, "{}", v.duration());
     }
 }

@@ -11,6 +11,8 @@ pub enum Source {
     Column(usize, f64),
     /// The norm of three columns.
     Norm([usize; 3]),
+    /// One column minus another.
+    Difference(usize, usize),
 }
 
 /// One plotted quantity.
@@ -42,6 +44,7 @@ impl Series {
         match self.source {
             Source::Column(c, k) => at(c) * k,
             Source::Norm([a, b, c]) => (at(a).powi(2) + at(b).powi(2) + at(c).powi(2)).sqrt(),
+            Source::Difference(a, b) => at(a) - at(b),
         }
     }
 }
@@ -57,10 +60,20 @@ pub fn detect(log: &FlightLog) -> (Vec<Series>, usize, f64) {
             source: Source::Norm([fx, fy, fz]),
             eigen: false,
         }];
-        if let Some(c) = find("tether_predicted") {
+        let (predicted, residual) = (find("tether_predicted"), find("tether_residual"));
+        if let (Some(p), Some(r)) = (predicted, residual) {
+            // The firmware logs predicted and predicted - measured.
+            s.push(Series {
+                label: "tether measured",
+                unit: "N",
+                source: Source::Difference(p, r),
+                eigen: false,
+            });
+        }
+        if let Some(c) = predicted {
             s.push(Series::col("tether predicted", "N", c, 1.0));
         }
-        if let Some(c) = find("tether_residual") {
+        if let Some(c) = residual {
             s.push(Series::col("tether residual", "N", c, 1.0));
         }
         for (name, label) in [("eig_0", "λ1"), ("eig_1", "λ2"), ("eig_2", "λ3")] {
@@ -73,12 +86,19 @@ pub fn detect(log: &FlightLog) -> (Vec<Series>, usize, f64) {
         }
         return (s, find("time_ms").unwrap_or(0), 1e-3);
     }
+    // The bundled excerpt's renamed columns, then the data set's own names
+    // (a whole cycle file `*_NNNN.csv` replays as it is).
     let named = [
         ("tether_force_kg", "tether force", "N", 9.81),
+        ("ground_tether_force", "tether force", "N", 9.81),
         ("apparent_wind_m_s", "apparent wind", "m/s", 1.0),
+        ("airspeed_apparent_windspeed", "apparent wind", "m/s", 1.0),
         ("kite_height_m", "kite height", "m", 1.0),
+        ("kite_height", "kite height", "m", 1.0),
         ("angle_of_attack_deg", "angle of attack", "°", 1.0),
+        ("airspeed_angle_of_attack", "angle of attack", "°", 1.0),
         ("reelout_speed_m_s", "reel-out speed", "m/s", 1.0),
+        ("ground_tether_reelout_speed", "reel-out speed", "m/s", 1.0),
     ];
     let mut s: Vec<Series> = named
         .iter()
@@ -89,5 +109,5 @@ pub fn detect(log: &FlightLog) -> (Vec<Series>, usize, f64) {
             .map(|c| Series::col("column", "", c, 1.0))
             .collect();
     }
-    (s, find("time_s").unwrap_or(0), 1.0)
+    (s, find("time_s").or_else(|| find("time")).unwrap_or(0), 1.0)
 }
