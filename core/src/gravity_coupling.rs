@@ -17,12 +17,13 @@
 //!
 //! Pure buoyancy of volume V is `G = -(V/L³) I` ([`GravityCoupling::buoyancy`]).
 //!
-//! Stored as extension [`GRAVITY_COUPLING`](crate::coefficients::extension_kind::GRAVITY_COUPLING),
+//! Stored as extension [`GRAVITY_COUPLING`](crate::extension::extension_kind::GRAVITY_COUPLING),
 //! payload version 1: `G_ij` row-major, each an `f32`, little-endian (36
 //! bytes). It needs the body's attitude, so [`crate::rigid_body::AirForces`]
 //! adds it, not [`crate::Coefficients::wrench`] (which sees only V and Ω).
 
-use crate::coefficients::{extension_kind, Extension, ModelError};
+use crate::error::ModelError;
+use crate::extension::{extension_kind, Extension};
 use crate::math::Real;
 use nalgebra::{Matrix3, Vector3};
 

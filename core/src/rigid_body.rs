@@ -2,6 +2,7 @@
 
 use crate::aero::Wrench;
 use crate::coefficients::{Coefficients, MassProperties, ModelError};
+use crate::lanes::LaneScalar;
 use crate::math::{symmetric_from_six, vector_is_finite, Real};
 use nalgebra::{Matrix3, Quaternion, UnitQuaternion, Vector3};
 
@@ -165,14 +166,14 @@ impl<T: Real> Forces<T> for NoForces {
 
 /// The OmniAD air model (eqs. 5-6) in an environment.
 #[derive(Clone, Copy, Debug)]
-pub struct AirForces<'a, T: Real> {
+pub struct AirForces<'a, T: LaneScalar> {
     /// The coefficients.
     pub model: &'a Coefficients<T>,
     /// ρ and wind are read from here.
     pub environment: Environment<T>,
 }
 
-impl<T: Real> Forces<T> for AirForces<'_, T> {
+impl<T: LaneScalar> Forces<T> for AirForces<'_, T> {
     /// Eqs. (5)-(6) and the model's extensions, including the gravity
     /// coupling, which needs the attitude.
     fn wrench(&self, _t: T, state: &State<T>) -> Wrench<T> {

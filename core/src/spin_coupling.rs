@@ -16,11 +16,12 @@
 //! form of eq. (5) scaled by the spin ratio. A pure Magnus term of scale
 //! `c` is `K_ijk = c ε_ijk` ([`SpinCoupling::magnus`]).
 //!
-//! Stored as extension [`SPIN_COUPLING`](crate::coefficients::extension_kind::SPIN_COUPLING),
+//! Stored as extension [`SPIN_COUPLING`](crate::extension::extension_kind::SPIN_COUPLING),
 //! payload version 1: the 27 numbers `K_ijk` in the order i, j, k
 //! (k fastest), each an `f32`, little-endian (108 bytes).
 
-use crate::coefficients::{extension_kind, Extension, ModelError};
+use crate::error::ModelError;
+use crate::extension::{extension_kind, Extension};
 use crate::math::Real;
 use nalgebra::Vector3;
 
