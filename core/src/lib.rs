@@ -15,6 +15,10 @@
 //! * [`gravity_coupling`]: a model extension, the force linear in gravity
 //!   seen from the body (buoyancy, added mass).
 //! * [`file`]: the `*.omni` coefficient file format.
+//! * [`projection`]: eqs. (11), (13), a direction function onto
+//!   coefficients, by [`quadrature`] on the sphere.
+//! * [`reference`]: independent reference models (the quasi-steady panel
+//!   model) that example coefficients are projected from.
 //!
 //! Every quantity is SI (m, kg, s, rad) unless a doc comment says otherwise.
 #![no_std]
@@ -48,7 +52,9 @@ pub mod lanes;
 pub mod math;
 pub mod metadata;
 mod payload;
+pub mod projection;
 pub mod quadrature;
+pub mod reference;
 pub mod rigid_body;
 pub mod sh;
 pub mod spin_coupling;

@@ -1,15 +1,15 @@
 //! Generates the primitive library in `data/primitives/`: example boxes and
 //! plates, each made by projecting the independent quasi-steady panel model
-//! (`omniad_acquire::panel`) onto OmniAD coefficients (eqs. 11, 13 via
-//! `omniad_acquire::projection`), with the damping tensor D fitted to the
+//! (`omniad_core::reference::panel`) onto OmniAD coefficients (eqs. 11, 13
+//! via `omniad_core::projection`), with the damping tensor D fitted to the
 //! same panel model (eq. 12).
 //!
 //! Regenerate with `cargo run --release -p omniad-kite --example gen_primitives -- data/primitives`.
 
 use anyhow::{Context, Result};
 use nalgebra::Vector3;
-use omniad_acquire::panel::PanelModel;
-use omniad_acquire::projection::project;
+use omniad_core::projection::project;
+use omniad_core::reference::panel::PanelModel;
 use omniad_core::Coefficients;
 use std::fmt::Write as _;
 use std::path::Path;
