@@ -106,6 +106,29 @@ impl<T: LaneScalar> Coefficients<T> {
         w
     }
 
+    /// [`Self::wrench`] plus the gravity coupling
+    /// ([`crate::gravity_coupling`]), which needs the attitude:
+    /// `gravity_body` is `Rᵀg`, the gravity vector in the body frame, m/s².
+    /// This is the whole air force of a model with every extension it
+    /// has. Like eqs. (5)-(6), a non-finite term adds nothing.
+    #[inline]
+    pub fn wrench_in_gravity(
+        &self,
+        velocity: &Vector3<T>,
+        angular_velocity: &Vector3<T>,
+        gravity_body: &Vector3<T>,
+        air_density: T,
+    ) -> Wrench<T> {
+        let mut w = self.wrench(velocity, angular_velocity, air_density);
+        if let Some(g) = self.gravity_coupling() {
+            let f = g.force(gravity_body, air_density, self.reference_length());
+            if crate::math::vector_is_finite(&f) {
+                w.force += f;
+            }
+        }
+        w
+    }
+
     /// [`Self::wrench`] without extensions, inlined into the caller.
     #[inline(always)]
     fn wrench_inline(

@@ -262,7 +262,10 @@ pub fn decode<T: LaneScalar>(bytes: &[u8]) -> Result<Coefficients<T>, FileError>
 /// made on the stack (a `Coefficients<f32>` is about 5 KiB, which matters
 /// on a microcontroller). On error `out` is reset to an empty degree-0
 /// model, never left half-decoded.
-pub fn decode_into<T: LaneScalar>(bytes: &[u8], out: &mut Coefficients<T>) -> Result<(), FileError> {
+pub fn decode_into<T: LaneScalar>(
+    bytes: &[u8],
+    out: &mut Coefficients<T>,
+) -> Result<(), FileError> {
     let result = decode_checked(bytes, out);
     if result.is_err() {
         // Cannot fail: the arguments are valid.
@@ -316,7 +319,10 @@ fn read_array<const N: usize>(bytes: &[u8], at: usize) -> Result<[u8; N], FileEr
     Ok(out)
 }
 
-fn read_payload_v1<T: LaneScalar>(r: &mut Reader<'_>, m: &mut Coefficients<T>) -> Result<(), FileError> {
+fn read_payload_v1<T: LaneScalar>(
+    r: &mut Reader<'_>,
+    m: &mut Coefficients<T>,
+) -> Result<(), FileError> {
     let c = T::of_f64;
     let name: heapless::String<NAME_CAPACITY> = r.string("name")?;
     let degree: u8 = r.take("degree")?;

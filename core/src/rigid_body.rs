@@ -178,23 +178,15 @@ impl<T: LaneScalar> Forces<T> for AirForces<'_, T> {
     /// coupling, which needs the attitude.
     fn wrench(&self, _t: T, state: &State<T>) -> Wrench<T> {
         let v = state.air_velocity_body(&self.environment.wind);
-        let mut w = self
-            .model
-            .wrench(&v, &state.angular_velocity, self.environment.air_density);
-        if let Some(g) = self.model.gravity_coupling() {
-            let gravity_body = state
-                .orientation
-                .inverse_transform_vector(&self.environment.gravity);
-            let f = g.force(
-                &gravity_body,
-                self.environment.air_density,
-                self.model.reference_length(),
-            );
-            if crate::math::vector_is_finite(&f) {
-                w.force += f;
-            }
-        }
-        w
+        let gravity_body = state
+            .orientation
+            .inverse_transform_vector(&self.environment.gravity);
+        self.model.wrench_in_gravity(
+            &v,
+            &state.angular_velocity,
+            &gravity_body,
+            self.environment.air_density,
+        )
     }
 }
 

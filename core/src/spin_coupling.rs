@@ -96,6 +96,28 @@ impl<T: Real> SpinCoupling<T> {
         Vector3::new(row(r0), row(r1), row(r2))
     }
 
+    /// The Magnus part of K: the `c` of the pure Magnus tensor `c ε_ijk`
+    /// ([`Self::magnus`]) closest to K, i.e. K's projection on the
+    /// Levi-Civita tensor, `Σ K_ijk ε_ijk / 6` (non-dimensional, as K;
+    /// the Magnus force is then `½ρ L³ c (Ω × V)`).
+    pub fn magnus_scale(&self) -> f64 {
+        let e = SpinCoupling::<f64>::magnus(1.0);
+        self.k
+            .iter()
+            .flatten()
+            .zip(e.k.iter().flatten())
+            .map(|(a, b)| a.as_f64() * b)
+            .sum::<f64>()
+            / 6.0
+    }
+
+    /// The Frobenius norm `|K|` (non-dimensional): how strong the coupling
+    /// is overall, Magnus part or not.
+    pub fn norm(&self) -> f64 {
+        let squares = self.k.iter().flatten().map(|x| x.as_f64() * x.as_f64());
+        libm::sqrt(squares.sum::<f64>())
+    }
+
     /// The model extension holding this tensor (payload version 1).
     pub fn to_extension(&self) -> Result<Extension, ModelError> {
         crate::payload::encode(

@@ -69,7 +69,7 @@ pub fn example(size: &[f64; 3], degree: u8) -> Result<Coefficients<f64>> {
     .map_err(|e| anyhow::anyhow!("name: {e}"))?;
     c.provenance.method = heapless::String::try_from("projection").unwrap_or_default();
     c.provenance.source = heapless::String::try_from(
-        "acquire::panel quasi-steady panel model, projected (eqs. 11, 13)",
+        "omniad_core::reference::panel quasi-steady panel model, projected (eqs. 11, 13)",
     )
     .unwrap_or_default();
     Ok(c)

@@ -31,7 +31,6 @@ const C_N: f64 = 4.0;
 const S0: f64 = 0.1;
 const C_D: f64 = 0.1;
 const R_CP: [f64; 3] = [-0.25, 0.0, -3.0];
-const GRID: usize = 96;
 
 fn coefficients_at(e: &Vector3<f64>) -> (Vector3<f64>, Vector3<f64>) {
     let n = Vector3::z();
@@ -86,5 +85,4 @@ mod tests {
             );
         }
     }
-
 }
