@@ -700,7 +700,7 @@ mod tests {
         );
         let model = crate::model::with_raw(&truth, &raw).expect("model");
         let (mut num, mut den) = (0.0, 0.0);
-        for e in crate::panel::fibonacci_sphere(200) {
+        for e in omniad_core::quadrature::fibonacci_sphere(200) {
             let (a, b) = (
                 model.at_direction(&e).expect("dir"),
                 truth.at_direction(&e).expect("dir"),
@@ -891,7 +891,7 @@ mod tests {
             ..LsqConfig::default()
         };
         let alpha = fit_force(&frames, &ctx, &cfg);
-        for e in crate::panel::fibonacci_sphere(500) {
+        for e in omniad_core::quadrature::fibonacci_sphere(500) {
             let (y, _) = sh_and_basis(4, &e, &ctx.pole);
             let drag: f64 = y.iter().zip(&alpha[0]).map(|(a, b)| a * b).sum();
             assert!(drag < 0.0, "C_F·E = {drag} at {e:?}");

@@ -202,7 +202,7 @@ mod tests {
         }
         let model = crate::model::with_raw(&truth, &fit(&frames, &ctx, 4)).expect("model");
         let (mut num, mut den) = (0.0, 0.0);
-        for e in crate::panel::fibonacci_sphere(200) {
+        for e in omniad_core::quadrature::fibonacci_sphere(200) {
             let (a, b) = (
                 model.at_direction(&e).expect("dir"),
                 truth.at_direction(&e).expect("dir"),

@@ -1,6 +1,7 @@
 //! `omniad synth`: recording sets generated from a known coefficient model
 //! (the plate or open box of the shared sets, made by projecting the
-//! [`crate::panel`] model onto SH with [`crate::projection`]), simulated
+//! [`omniad_core::reference::panel`] model onto SH with
+//! [`omniad_core::projection`]), simulated
 //! with the core RK4, filmed by the shared sets' camera, with `truth/`.
 //!
 //! Effects outside the OmniAD model can be added to the physics:
@@ -8,9 +9,9 @@
 //! (`SCALE` x ½ρ L³ Ω × V, body frame).
 
 use crate::error::{Error, Result};
-use crate::panel::PanelModel;
 use crate::rng::Rng;
 use nalgebra::{Matrix3, UnitQuaternion, Vector3};
+use omniad_core::reference::panel::PanelModel;
 use omniad_core::rigid_body::{AirForces, Forces};
 use omniad_core::{Coefficients, Environment, RigidBody, State, Wrench};
 
@@ -173,7 +174,7 @@ pub fn truth_model(spec: &ObjectSpec, degree: u8) -> Result<Coefficients<f64>> {
     let panels = spec.panels();
     let l = spec.reference_length();
     let rho = 1.0;
-    let mut m = crate::projection::project(degree, spec.pole, l, |e| {
+    let mut m = omniad_core::projection::project(degree, spec.pole, l, |e| {
         let (f, t) = panels.translation_wrench(e, rho);
         (f / (0.5 * rho * l * l), t / (0.5 * rho * l * l * l))
     })

@@ -5,11 +5,11 @@ use criterion::{black_box, criterion_group, criterion_main, Criterion};
 use nalgebra::{Matrix3, Vector3};
 use omniad_core::integrate::rk4_step;
 use omniad_core::rigid_body::AirForces;
-use omniad_core::{Coefficients, Environment, Real, RigidBody, State};
+use omniad_core::{Coefficients, Environment, LaneScalar, RigidBody, State};
 
 /// A degree-8 model with every coefficient non-zero (values are arbitrary
 /// but deterministic: the cost does not depend on them).
-fn model<T: Real>() -> Coefficients<T> {
+fn model<T: LaneScalar>() -> Coefficients<T> {
     let mut m =
         Coefficients::zeros(8, Vector3::z(), T::of_f64(0.58)).unwrap_or_else(|_| unreachable());
     for k in 0..m.coeff_count() {
@@ -27,7 +27,7 @@ fn unreachable() -> ! {
     std::process::abort()
 }
 
-fn bench_eval<T: Real>(c: &mut Criterion, name: &str) {
+fn bench_eval<T: LaneScalar>(c: &mut Criterion, name: &str) {
     let m = model::<T>();
     let v = Vector3::new(T::of_f64(0.3), T::of_f64(-1.2), T::of_f64(-3.1));
     let w = Vector3::new(T::of_f64(0.5), T::of_f64(0.1), T::of_f64(-0.7));

@@ -6,12 +6,12 @@
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
 use nalgebra::{Matrix3, Vector3};
-use omniad_core::{Coefficients, Real};
+use omniad_core::{Coefficients, LaneScalar};
 use std::hint::black_box;
 use std::time::Instant;
 
 /// Same model as `benches/aero.rs`: every coefficient non-zero.
-fn model<T: Real>(portable: bool) -> Coefficients<T> {
+fn model<T: LaneScalar>(portable: bool) -> Coefficients<T> {
     let mut m = Coefficients::zeros(8, Vector3::z(), T::of_f64(0.58)).expect("valid");
     for k in 0..m.coeff_count() {
         for i in 0..3 {
@@ -27,7 +27,7 @@ fn model<T: Real>(portable: bool) -> Coefficients<T> {
 }
 
 /// (minimum, median) nanoseconds per evaluation.
-fn time<T: Real>(m: &Coefficients<T>, batches: usize) -> (f64, f64) {
+fn time<T: LaneScalar>(m: &Coefficients<T>, batches: usize) -> (f64, f64) {
     const PER_BATCH: usize = 2_000;
     let v = Vector3::new(T::of_f64(0.3), T::of_f64(-1.2), T::of_f64(-3.1));
     let w = Vector3::new(T::of_f64(0.5), T::of_f64(0.1), T::of_f64(-0.7));

@@ -2,7 +2,7 @@
 
 use crate::basis::vector_basis;
 use crate::coefficients::Coefficients;
-use crate::lanes::SimdCoefficients;
+use crate::lanes::{LaneScalar, SimdCoefficients, SimdKernel};
 use crate::math::{lit, norm, Real};
 use nalgebra::Vector3;
 
@@ -35,7 +35,7 @@ pub struct DirectionCoefficients<T: Real> {
     pub torque: Vector3<T>,
 }
 
-impl<T: Real> Coefficients<T> {
+impl<T: LaneScalar> Coefficients<T> {
     /// `C_F(E)` and `C_T(E)`, eqs. (7)-(8), at a body-frame direction.
     ///
     /// `direction` need not be unit length; it is normalised. A zero or
@@ -85,7 +85,12 @@ impl<T: Real> Coefficients<T> {
         angular_velocity: &Vector3<T>,
         air_density: T,
     ) -> Wrench<T> {
-        let mut w = T::Simd::wrench(self, velocity, angular_velocity, air_density);
+        let mut w = T::Simd::run(&WrenchKernel {
+            model: self,
+            velocity,
+            angular_velocity,
+            air_density,
+        });
         if let Some(spin) = self.spin_coupling() {
             let f = spin.force(
                 velocity,
@@ -101,9 +106,32 @@ impl<T: Real> Coefficients<T> {
         w
     }
 
-    /// [`Self::wrench`], inlined into the caller.
+    /// [`Self::wrench`] plus the gravity coupling
+    /// ([`crate::gravity_coupling`]), which needs the attitude:
+    /// `gravity_body` is `Rᵀg`, the gravity vector in the body frame, m/s².
+    /// This is the whole air force of a model with every extension it
+    /// has. Like eqs. (5)-(6), a non-finite term adds nothing.
+    #[inline]
+    pub fn wrench_in_gravity(
+        &self,
+        velocity: &Vector3<T>,
+        angular_velocity: &Vector3<T>,
+        gravity_body: &Vector3<T>,
+        air_density: T,
+    ) -> Wrench<T> {
+        let mut w = self.wrench(velocity, angular_velocity, air_density);
+        if let Some(g) = self.gravity_coupling() {
+            let f = g.force(gravity_body, air_density, self.reference_length());
+            if crate::math::vector_is_finite(&f) {
+                w.force += f;
+            }
+        }
+        w
+    }
+
+    /// [`Self::wrench`] without extensions, inlined into the caller.
     #[inline(always)]
-    pub(crate) fn wrench_inline(
+    fn wrench_inline(
         &self,
         velocity: &Vector3<T>,
         angular_velocity: &Vector3<T>,
@@ -131,5 +159,23 @@ impl<T: Real> Coefficients<T> {
         }
         out.torque -= damping;
         out
+    }
+}
+
+/// Eqs. (5)-(6) as a [`SimdKernel`], so that [`Coefficients::wrench`] runs
+/// compiled for the SIMD path's features with the SH kernel inlined.
+struct WrenchKernel<'a, T: LaneScalar> {
+    model: &'a Coefficients<T>,
+    velocity: &'a Vector3<T>,
+    angular_velocity: &'a Vector3<T>,
+    air_density: T,
+}
+
+impl<T: LaneScalar> SimdKernel for WrenchKernel<'_, T> {
+    type Output = Wrench<T>;
+    #[inline(always)]
+    fn run(&self) -> Wrench<T> {
+        self.model
+            .wrench_inline(self.velocity, self.angular_velocity, self.air_density)
     }
 }

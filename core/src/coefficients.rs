@@ -1,150 +1,37 @@
 //! The OmniAD coefficient model: alpha, beta (eqs. 7-8), the damping tensor
 //! D (eq. 6), the object's reference length L and pole Z, the rigid body it
 //! was measured on, provenance, and model extensions.
+//!
+//! The pieces it holds are defined below it, each in its own module, and
+//! re-exported here under their historical paths: the error
+//! ([`crate::error`]), the metadata ([`crate::metadata`]), the extensions
+//! ([`crate::extension`], [`crate::spin_coupling`],
+//! [`crate::gravity_coupling`]) and the storage layout ([`crate::lanes`]).
+
+pub use crate::error::ModelError;
+pub use crate::extension::{extension_kind, Extension, EXTENSION_CAPACITY, MAX_EXTENSIONS};
+pub use crate::lanes::SETS;
+pub use crate::metadata::{
+    MassProperties, Provenance, COVERAGE_CELLS, COVERAGE_LAT, COVERAGE_LON, MAX_ITERATIONS,
+    NAME_CAPACITY, TEXT_CAPACITY,
+};
 
 use crate::gravity_coupling::GravityCoupling;
-use crate::lanes::SimdCoefficients;
-use crate::math::{is_positive_semidefinite, six_from_symmetric, symmetric_from_six, Real};
+use crate::lanes::{LaneScalar, SimdCoefficients};
+use crate::math::{is_positive_semidefinite, six_from_symmetric, symmetric_from_six};
 use crate::sh::{self, MAX_COEFFS, MAX_DEGREE};
 use crate::spin_coupling::SpinCoupling;
 use nalgebra::{Matrix3, Vector3};
 
-/// Number of interleaved coefficient sets: `alpha^1..3`, `beta^1..3`.
-pub const SETS: usize = 6;
-/// Longest object name, in bytes (UTF-8).
-pub const NAME_CAPACITY: usize = 64;
-/// Longest free-text provenance field, in bytes.
-pub const TEXT_CAPACITY: usize = 128;
-/// Most iterations whose residuals are recorded.
-pub const MAX_ITERATIONS: usize = 16;
-/// Coverage grid: longitude divisions (as the paper's §6 grid).
-pub const COVERAGE_LON: usize = 32;
-/// Coverage grid: latitude divisions.
-pub const COVERAGE_LAT: usize = 16;
-/// Number of coverage cells.
-pub const COVERAGE_CELLS: usize = COVERAGE_LON * COVERAGE_LAT;
-/// Most model extensions in one model.
-pub const MAX_EXTENSIONS: usize = 8;
-/// Largest extension payload, in bytes.
-pub const EXTENSION_CAPACITY: usize = 112;
-
-/// Why a model (or a value for it) is not acceptable. Small and `Copy`.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum ModelError {
-    /// Degree above [`MAX_DEGREE`].
-    DegreeTooHigh(u8),
-    /// A number is NaN or infinite; names the field.
-    NonFinite(&'static str),
-    /// The pole is zero-length.
-    BadPole,
-    /// The reference length is not positive.
-    BadReferenceLength,
-    /// D is not symmetric positive semi-definite.
-    DampingNotPositiveSemidefinite,
-    /// Mass not positive or inertia not positive definite.
-    BadBody,
-    /// A fixed-capacity field is full; names the field.
-    CapacityExceeded(&'static str),
-    /// Index out of range; names what was indexed.
-    OutOfRange(&'static str),
-    /// A second extension of a kind a model holds once (the kind).
-    DuplicateExtension(u16),
-}
-
-impl core::fmt::Display for ModelError {
-    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
-        match self {
-            Self::DegreeTooHigh(n) => write!(f, "degree {n} is above the maximum {MAX_DEGREE}"),
-            Self::NonFinite(field) => write!(f, "non-finite number in {field}"),
-            Self::BadPole => write!(f, "pole must be a non-zero vector"),
-            Self::BadReferenceLength => write!(f, "reference length must be positive"),
-            Self::DampingNotPositiveSemidefinite => {
-                write!(
-                    f,
-                    "damping tensor D is not symmetric positive semi-definite"
-                )
-            }
-            Self::BadBody => write!(f, "mass must be positive and inertia positive definite"),
-            Self::CapacityExceeded(field) => write!(f, "{field} exceeds its fixed capacity"),
-            Self::OutOfRange(what) => write!(f, "{what} index out of range"),
-            Self::DuplicateExtension(kind) => {
-                write!(f, "a model holds one extension of kind {kind}")
-            }
-        }
-    }
-}
-
-#[cfg(feature = "std")]
-impl std::error::Error for ModelError {}
-
-/// Mass properties of the object the coefficients were measured on.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct MassProperties {
-    /// Mass M, kg.
-    pub mass: f64,
-    /// Inertia tensor about the centre of mass, body frame, kg m²,
-    /// `[xx, yy, zz, xy, xz, yz]`.
-    pub inertia: [f64; 6],
-}
-
-/// How the coefficients were made.
-#[derive(Clone, Debug, PartialEq, Default)]
-pub struct Provenance {
-    /// Method, e.g. `"fit-lsq"`, `"fit-paper"`, `"projection"`.
-    pub method: heapless::String<32>,
-    /// Free text: source data set or generating command.
-    pub source: heapless::String<TEXT_CAPACITY>,
-    /// Frames used by the fit.
-    pub frames_used: u32,
-    /// Frames dropped (stability enforcement, gating, ...).
-    pub frames_dropped: u32,
-    /// RMS force-coefficient residual per refinement iteration
-    /// (non-dimensional, eq. 5).
-    pub force_residuals: heapless::Vec<f64, MAX_ITERATIONS>,
-    /// RMS torque-coefficient residual per refinement iteration.
-    pub torque_residuals: heapless::Vec<f64, MAX_ITERATIONS>,
-    /// Frames per direction cell on a [`COVERAGE_LON`] x [`COVERAGE_LAT`]
-    /// grid (longitude-major, latitude from +Z to -Z about the pole);
-    /// empty when unknown.
-    pub coverage: heapless::Vec<u16, COVERAGE_CELLS>,
-}
-
-/// Kinds of model extension known to this version. Unknown kinds found in
-/// a file are kept (and written back) but not evaluated.
-pub mod extension_kind {
-    /// Added mass (reserved for the residual-analysis work).
-    pub const ADDED_MASS: u16 = 1;
-    /// Buoyancy of displaced air (reserved).
-    pub const BUOYANCY: u16 = 2;
-    /// A force bilinear in Ω and V ([`crate::spin_coupling`]).
-    pub const SPIN_COUPLING: u16 = 3;
-    /// A force linear in gravity seen from the body: buoyancy and added
-    /// mass ([`crate::gravity_coupling`]).
-    pub const GRAVITY_COUPLING: u16 = 4;
-}
-
-/// A model extension: a term outside eqs. (5)-(6), stored as a tagged,
-/// versioned byte payload so that readers that do not know a kind can still
-/// load the file and keep the term.
-#[derive(Clone, Debug, PartialEq, Default)]
-pub struct Extension {
-    /// See [`extension_kind`].
-    pub kind: u16,
-    /// Version of this kind's payload layout.
-    pub version: u8,
-    /// The payload (postcard of the kind's parameters).
-    pub data: heapless::Vec<u8, EXTENSION_CAPACITY>,
-}
-
 /// The OmniAD coefficients of one object.
 ///
-/// Storage is laid out for evaluation speed ([`lanes`]): rows of the six
+/// Storage is laid out for evaluation speed ([`crate::lanes`]): rows of the six
 /// sets `[alpha^1..3, beta^1..3]` in the scalar path's walk order, and,
 /// where the scalar type has a SIMD path, a second copy in its lane layout
 /// (entries beyond the degree stay zero). The public accessors take the
 /// standard index `k = l*l + l + m` and keep both copies equal.
 #[derive(Clone, Debug, PartialEq)]
-pub struct Coefficients<T: Real> {
+pub struct Coefficients<T: LaneScalar> {
     name: heapless::String<NAME_CAPACITY>,
     degree: u8,
     pole: Vector3<T>,
@@ -167,7 +54,7 @@ pub struct Coefficients<T: Real> {
     gravity_coupling: Option<GravityCoupling<T>>,
 }
 
-impl<T: Real> Coefficients<T> {
+impl<T: LaneScalar> Coefficients<T> {
     /// All-zero coefficients of the given degree, pole and reference length
     /// L (m). The pole is normalised.
     pub fn zeros(degree: u8, pole: Vector3<T>, reference_length: T) -> Result<Self, ModelError> {
@@ -457,7 +344,7 @@ impl<T: Real> Coefficients<T> {
     }
 
     /// The same model in another scalar type.
-    pub fn cast<U: Real>(&self) -> Coefficients<U> {
+    pub fn cast<U: LaneScalar>(&self) -> Coefficients<U> {
         let c = |x: T| U::of_f64(x.as_f64());
         let mut out = Coefficients {
             name: self.name.clone(),

@@ -30,7 +30,8 @@ use crate::coefficients::{
     EXTENSION_CAPACITY, MAX_EXTENSIONS, MAX_ITERATIONS, NAME_CAPACITY, TEXT_CAPACITY,
 };
 use crate::crc32::crc32;
-use crate::math::{six_from_symmetric, symmetric_from_six, Real};
+use crate::lanes::LaneScalar;
+use crate::math::{six_from_symmetric, symmetric_from_six};
 use crate::rigid_body::RigidBody;
 use crate::sh::{coeff_count, MAX_DEGREE};
 use nalgebra::Vector3;
@@ -173,7 +174,7 @@ impl Writer<'_> {
 }
 
 /// Encodes `model` into `buf`; returns the number of bytes written.
-pub fn encode<T: Real>(model: &Coefficients<T>, buf: &mut [u8]) -> Result<usize, FileError> {
+pub fn encode<T: LaneScalar>(model: &Coefficients<T>, buf: &mut [u8]) -> Result<usize, FileError> {
     if buf.len() < HEADER_LEN + 4 {
         return Err(FileError::BufferTooSmall);
     }
@@ -203,7 +204,7 @@ pub fn encode<T: Real>(model: &Coefficients<T>, buf: &mut [u8]) -> Result<usize,
     Ok(end + 4)
 }
 
-fn write_payload<T: Real>(m: &Coefficients<T>, w: &mut Writer<'_>) -> Result<(), FileError> {
+fn write_payload<T: LaneScalar>(m: &Coefficients<T>, w: &mut Writer<'_>) -> Result<(), FileError> {
     let f = |x: T| x.as_f64();
     w.put(m.name())?;
     w.put(&m.degree())?;
@@ -251,7 +252,7 @@ fn write_payload<T: Real>(m: &Coefficients<T>, w: &mut Writer<'_>) -> Result<(),
 }
 
 /// Decodes a whole file. The CRC is checked before anything else is read.
-pub fn decode<T: Real>(bytes: &[u8]) -> Result<Coefficients<T>, FileError> {
+pub fn decode<T: LaneScalar>(bytes: &[u8]) -> Result<Coefficients<T>, FileError> {
     let mut model = Coefficients::zeros(0, Vector3::z(), T::one())?;
     decode_into(bytes, &mut model)?;
     Ok(model)
@@ -261,7 +262,10 @@ pub fn decode<T: Real>(bytes: &[u8]) -> Result<Coefficients<T>, FileError> {
 /// made on the stack (a `Coefficients<f32>` is about 5 KiB, which matters
 /// on a microcontroller). On error `out` is reset to an empty degree-0
 /// model, never left half-decoded.
-pub fn decode_into<T: Real>(bytes: &[u8], out: &mut Coefficients<T>) -> Result<(), FileError> {
+pub fn decode_into<T: LaneScalar>(
+    bytes: &[u8],
+    out: &mut Coefficients<T>,
+) -> Result<(), FileError> {
     let result = decode_checked(bytes, out);
     if result.is_err() {
         // Cannot fail: the arguments are valid.
@@ -270,7 +274,7 @@ pub fn decode_into<T: Real>(bytes: &[u8], out: &mut Coefficients<T>) -> Result<(
     result
 }
 
-fn decode_checked<T: Real>(bytes: &[u8], out: &mut Coefficients<T>) -> Result<(), FileError> {
+fn decode_checked<T: LaneScalar>(bytes: &[u8], out: &mut Coefficients<T>) -> Result<(), FileError> {
     let magic = bytes
         .get(..8)
         .ok_or(if bytes.len() < 8 && MAGIC.starts_with(bytes) {
@@ -315,7 +319,10 @@ fn read_array<const N: usize>(bytes: &[u8], at: usize) -> Result<[u8; N], FileEr
     Ok(out)
 }
 
-fn read_payload_v1<T: Real>(r: &mut Reader<'_>, m: &mut Coefficients<T>) -> Result<(), FileError> {
+fn read_payload_v1<T: LaneScalar>(
+    r: &mut Reader<'_>,
+    m: &mut Coefficients<T>,
+) -> Result<(), FileError> {
     let c = T::of_f64;
     let name: heapless::String<NAME_CAPACITY> = r.string("name")?;
     let degree: u8 = r.take("degree")?;
@@ -391,7 +398,7 @@ fn read_provenance(r: &mut Reader<'_>, p: &mut Provenance) -> Result<(), FileErr
 }
 
 /// Reads extensions into `out`, which must have none (after `reset`).
-fn read_extensions<T: Real>(
+fn read_extensions<T: LaneScalar>(
     r: &mut Reader<'_>,
     out: &mut Coefficients<T>,
 ) -> Result<(), FileError> {

@@ -17,12 +17,14 @@
 //!
 //! Pure buoyancy of volume V is `G = -(V/L³) I` ([`GravityCoupling::buoyancy`]).
 //!
-//! Stored as extension [`GRAVITY_COUPLING`](crate::coefficients::extension_kind::GRAVITY_COUPLING),
+//! Stored as extension [`GRAVITY_COUPLING`](crate::extension::extension_kind::GRAVITY_COUPLING),
 //! payload version 1: `G_ij` row-major, each an `f32`, little-endian (36
-//! bytes). It needs the body's attitude, so [`crate::rigid_body::AirForces`]
-//! adds it, not [`crate::Coefficients::wrench`] (which sees only V and Ω).
+//! bytes). It needs the body's attitude, so
+//! [`crate::Coefficients::wrench_in_gravity`] adds it, not
+//! [`crate::Coefficients::wrench`] (which sees only V and Ω).
 
-use crate::coefficients::{extension_kind, Extension, ModelError};
+use crate::error::ModelError;
+use crate::extension::{extension_kind, Extension};
 use crate::math::Real;
 use nalgebra::{Matrix3, Vector3};
 
@@ -46,6 +48,15 @@ impl<T: Real> GravityCoupling<T> {
         Self {
             g: Matrix3::identity() * (-volume / l3),
         }
+    }
+
+    /// The displaced volume, m³, whose buoyancy is the isotropic part of
+    /// G, for reference length `reference_length` L (m): `V = -L³ tr(G)/3`,
+    /// the inverse of [`Self::buoyancy`] (`G = -(V/L³) I`). Added mass
+    /// shows in the anisotropic part and is not counted.
+    pub fn buoyancy_volume(&self, reference_length: T) -> T {
+        let l = reference_length;
+        -self.g.trace() / T::of_f64(3.0) * (l * l * l)
     }
 
     /// The force, body frame, N: `ρ L³ G g_body`, with `gravity_body` the

@@ -32,14 +32,16 @@
 //! Lanes beyond the degree (and the sine part of order 0) have zero
 //! coefficients, so they add nothing.
 
-use crate::coefficients::SETS;
 use crate::math::Real;
-use crate::sh::{MAX_DEGREE, TABLES};
+use crate::sh::{ShScalar, MAX_DEGREE, TABLES};
 use nalgebra::Vector3;
 
 #[cfg(target_arch = "x86_64")]
 pub mod x86;
 
+/// Number of interleaved coefficient sets: `alpha^1..3`, `beta^1..3`
+/// (eqs. 7-8), the width of one row of coefficient storage.
+pub const SETS: usize = 6;
 /// Orders per SIMD group.
 pub const LANES: usize = 8;
 /// Groups of orders: `m = 0..=MAX_DEGREE` in eights.
@@ -59,6 +61,37 @@ pub const fn group_start(g: usize) -> usize {
     g * (MAX_DEGREE + 1) - LANES * g * g.saturating_sub(1) / 2
 }
 
+/// A scalar a coefficient model is stored in: the SH recurrence's scalar
+/// plus the coefficient layout of its SIMD path, if it has one (f32 on
+/// x86_64: [`x86::LaneBlocks`]; `()` otherwise).
+pub trait LaneScalar: ShScalar {
+    /// Coefficient storage of this type's SIMD path.
+    type Simd: SimdCoefficients<Self>;
+}
+
+impl LaneScalar for f32 {
+    #[cfg(target_arch = "x86_64")]
+    type Simd = x86::LaneBlocks;
+    #[cfg(not(target_arch = "x86_64"))]
+    type Simd = ();
+}
+
+impl LaneScalar for f64 {
+    type Simd = ();
+}
+
+/// Code to run compiled for this machine's SIMD features where it has them
+/// ([`SimdCoefficients::run`]): eqs. (5)-(6) around the SIMD kernel, so
+/// that the kernel inlines into the code around it (normalisation, basis,
+/// damping) and the processor overlaps them. Implementations mark `run`
+/// `#[inline(always)]`.
+pub trait SimdKernel {
+    /// What the code computes.
+    type Output;
+    /// Runs it.
+    fn run(&self) -> Self::Output;
+}
+
 /// Coefficient storage for a SIMD path, kept beside the rows of the
 /// scalar path by [`crate::Coefficients`] (`()` where there is none).
 pub trait SimdCoefficients<T>: Clone + core::fmt::Debug + PartialEq {
@@ -69,22 +102,12 @@ pub trait SimdCoefficients<T>: Clone + core::fmt::Debug + PartialEq {
     fn set(&mut self, l: usize, m: isize, set: usize, value: T);
     /// The six sums by the SIMD path, if this machine has one.
     fn accumulate(&self, degree: usize, dir: &Vector3<T>) -> Option<[T; SETS]>;
-    /// Eqs. (5)-(6) for `model` (which owns `self`), compiled for this
-    /// machine's SIMD features where it has them, so that the SIMD kernel
-    /// inlines into the code around it (normalisation, basis, damping) and
-    /// the processor overlaps them. Rust never fuses a multiply and an add
-    /// on its own, so that code rounds exactly as elsewhere.
+    /// Runs `kernel` compiled for this path's SIMD features when the
+    /// machine has them. Rust never fuses a multiply and an add on its own,
+    /// so code outside the SIMD kernel rounds exactly as elsewhere.
     #[inline(always)]
-    fn wrench(
-        model: &crate::Coefficients<T>,
-        velocity: &Vector3<T>,
-        angular_velocity: &Vector3<T>,
-        air_density: T,
-    ) -> crate::Wrench<T>
-    where
-        T: Real,
-    {
-        model.wrench_inline(velocity, angular_velocity, air_density)
+    fn run<K: SimdKernel>(kernel: &K) -> K::Output {
+        kernel.run()
     }
 }
 

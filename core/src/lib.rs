@@ -15,6 +15,10 @@
 //! * [`gravity_coupling`]: a model extension, the force linear in gravity
 //!   seen from the body (buoyancy, added mass).
 //! * [`file`]: the `*.omni` coefficient file format.
+//! * [`projection`]: eqs. (11), (13), a direction function onto
+//!   coefficients, by [`quadrature`] on the sphere.
+//! * [`reference`]: independent reference models (the quasi-steady panel
+//!   model) that example coefficients are projected from.
 //!
 //! Every quantity is SI (m, kg, s, rad) unless a doc comment says otherwise.
 #![no_std]
@@ -38,19 +42,25 @@ pub mod aero;
 pub mod basis;
 pub mod coefficients;
 pub mod crc32;
+pub mod error;
+pub mod extension;
 pub mod file;
 pub mod gravity_coupling;
 pub mod integrate;
 pub mod kite;
 pub mod lanes;
 pub mod math;
+pub mod metadata;
 mod payload;
+pub mod projection;
 pub mod quadrature;
+pub mod reference;
 pub mod rigid_body;
 pub mod sh;
 pub mod spin_coupling;
 
 pub use aero::Wrench;
 pub use coefficients::{Coefficients, ModelError};
+pub use lanes::LaneScalar;
 pub use math::Real;
 pub use rigid_body::{Environment, RigidBody, State};

@@ -6,6 +6,11 @@
 //! usable from one build (e.g. the host compares its `f32` results
 //! bit-for-bit with the firmware's, and benchmarks both). Cargo features are
 //! unified across a build, so an alias could not give both at once.
+//!
+//! This module is the bottom layer of the core: it depends on no other
+//! module. What else a scalar must provide lives with its user: the SH
+//! recurrence constants ([`crate::sh::ShScalar`]) and the SIMD coefficient
+//! layout ([`crate::lanes::LaneScalar`]).
 
 use nalgebra::{Matrix3, RealField, Vector3};
 
@@ -20,22 +25,9 @@ pub trait Real: RealField + Copy + Default + core::fmt::Debug {
     fn root(self) -> Self;
     /// True when the value is neither NaN nor infinite.
     fn finite(self) -> bool;
-    /// The spherical-harmonic recurrence constants in this type.
-    fn walk_tables() -> &'static crate::sh::WalkTables<Self>;
-    /// Coefficient storage of this type's SIMD path
-    /// ([`crate::lanes::SimdCoefficients`]); `()` when it has none.
-    type Simd: crate::lanes::SimdCoefficients<Self>;
 }
 
 impl Real for f32 {
-    #[cfg(target_arch = "x86_64")]
-    type Simd = crate::lanes::x86::LaneBlocks;
-    #[cfg(not(target_arch = "x86_64"))]
-    type Simd = ();
-    #[inline(always)]
-    fn walk_tables() -> &'static crate::sh::WalkTables<Self> {
-        &crate::sh::WALK_F32
-    }
     #[inline(always)]
     fn of_f64(x: f64) -> Self {
         x as f32
@@ -82,11 +74,6 @@ impl Real for f32 {
 }
 
 impl Real for f64 {
-    type Simd = ();
-    #[inline(always)]
-    fn walk_tables() -> &'static crate::sh::WalkTables<Self> {
-        &crate::sh::WALK_F64
-    }
     #[inline(always)]
     fn of_f64(x: f64) -> Self {
         x
@@ -122,15 +109,19 @@ pub fn norm<T: Real>(v: &Vector3<T>) -> T {
     v.dot(v).root()
 }
 
-/// A symmetric 3x3 matrix from its six independent entries
-/// `[xx, yy, zz, xy, xz, yz]` (the order used in files).
+/// The packing of a symmetric 3x3 matrix into six numbers: `[xx, yy, zz,
+/// xy, xz, yz]`. Every symmetric tensor of the model uses it (the damping
+/// tensor D, inertia tensors in files and [`crate::coefficients::MassProperties`],
+/// the unknowns of the damping fits), so it is written here once.
+///
+/// A symmetric 3x3 matrix from its six entries.
 pub fn symmetric_from_six<T: Real>(s: [T; 6]) -> Matrix3<T> {
     let [xx, yy, zz, xy, xz, yz] = s;
     Matrix3::new(xx, xy, xz, xy, yy, yz, xz, yz, zz)
 }
 
-/// The six independent entries `[xx, yy, zz, xy, xz, yz]` of the symmetric
-/// part of `m`.
+/// The six entries (see [`symmetric_from_six`]) of the symmetric part of
+/// `m`.
 pub fn six_from_symmetric<T: Real>(m: &Matrix3<T>) -> [T; 6] {
     let h = lit::<T>(0.5);
     [
@@ -141,6 +132,27 @@ pub fn six_from_symmetric<T: Real>(m: &Matrix3<T>) -> [T; 6] {
         (m.m13 + m.m31) * h,
         (m.m23 + m.m32) * h,
     ]
+}
+
+/// The rows of the 3x6 matrix `M(w)` with `S w = M(w) s` for the symmetric
+/// matrix `S` of six entries `s` (see [`symmetric_from_six`]): how a
+/// least-squares fit of a symmetric tensor (e.g. D of eq. 6 from torques
+/// `-½ρ D |Ω| Ω L⁵`) sees its unknowns.
+pub fn symmetric_times_vector_rows<T: Real>(w: &Vector3<T>) -> [[T; 6]; 3] {
+    let o = T::zero();
+    [
+        [w.x, o, o, w.y, w.z, o],
+        [o, w.y, o, w.x, o, w.z],
+        [o, o, w.z, o, w.x, w.y],
+    ]
+}
+
+/// The positive semi-definite matrix nearest (Frobenius) to the symmetric
+/// `m`: negative eigenvalues clipped to zero.
+pub fn nearest_psd(m: &Matrix3<f64>) -> Matrix3<f64> {
+    let eig = m.symmetric_eigen();
+    let clipped = eig.eigenvalues.map(|x| x.max(0.0));
+    eig.eigenvectors * Matrix3::from_diagonal(&clipped) * eig.eigenvectors.transpose()
 }
 
 /// Whether a symmetric matrix given by six entries is positive

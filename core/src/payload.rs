@@ -2,7 +2,8 @@
 //! the extensions this build evaluates ([`crate::spin_coupling`],
 //! [`crate::gravity_coupling`]).
 
-use crate::coefficients::{Extension, ModelError};
+use crate::error::ModelError;
+use crate::extension::Extension;
 use crate::math::Real;
 
 /// An extension of `kind`, `version` holding `values` as `f32`s; `field`

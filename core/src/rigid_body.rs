@@ -2,6 +2,7 @@
 
 use crate::aero::Wrench;
 use crate::coefficients::{Coefficients, MassProperties, ModelError};
+use crate::lanes::LaneScalar;
 use crate::math::{symmetric_from_six, vector_is_finite, Real};
 use nalgebra::{Matrix3, Quaternion, UnitQuaternion, Vector3};
 
@@ -165,35 +166,27 @@ impl<T: Real> Forces<T> for NoForces {
 
 /// The OmniAD air model (eqs. 5-6) in an environment.
 #[derive(Clone, Copy, Debug)]
-pub struct AirForces<'a, T: Real> {
+pub struct AirForces<'a, T: LaneScalar> {
     /// The coefficients.
     pub model: &'a Coefficients<T>,
     /// ρ and wind are read from here.
     pub environment: Environment<T>,
 }
 
-impl<T: Real> Forces<T> for AirForces<'_, T> {
+impl<T: LaneScalar> Forces<T> for AirForces<'_, T> {
     /// Eqs. (5)-(6) and the model's extensions, including the gravity
     /// coupling, which needs the attitude.
     fn wrench(&self, _t: T, state: &State<T>) -> Wrench<T> {
         let v = state.air_velocity_body(&self.environment.wind);
-        let mut w = self
-            .model
-            .wrench(&v, &state.angular_velocity, self.environment.air_density);
-        if let Some(g) = self.model.gravity_coupling() {
-            let gravity_body = state
-                .orientation
-                .inverse_transform_vector(&self.environment.gravity);
-            let f = g.force(
-                &gravity_body,
-                self.environment.air_density,
-                self.model.reference_length(),
-            );
-            if crate::math::vector_is_finite(&f) {
-                w.force += f;
-            }
-        }
-        w
+        let gravity_body = state
+            .orientation
+            .inverse_transform_vector(&self.environment.gravity);
+        self.model.wrench_in_gravity(
+            &v,
+            &state.angular_velocity,
+            &gravity_body,
+            self.environment.air_density,
+        )
     }
 }
 

@@ -101,7 +101,7 @@ const SQRT3: f64 = 1.732_050_807_568_877_2;
 /// `dir` must be a unit vector (not checked: the caller normalises once).
 /// Writes `min(coeff_count(degree), out.len())` values and returns that
 /// count; `degree` above [`MAX_DEGREE`] is clamped to it.
-pub fn evaluate<T: Real>(degree: usize, dir: &Vector3<T>, out: &mut [T]) -> usize {
+pub fn evaluate<T: ShScalar>(degree: usize, dir: &Vector3<T>, out: &mut [T]) -> usize {
     let degree = degree.min(MAX_DEGREE);
     // The walk visits (l, m) as: m = 0 for l = 0..=N, then for each m >= 1
     // and l = m..=N the pair (l, +m), (l, -m); track it to scatter each
@@ -238,12 +238,33 @@ pub static WALK_F32: WalkTables<f32> = {
     t
 };
 
+/// A scalar the SH recurrence runs in: [`Real`] plus the recurrence's
+/// constants already rounded to it (f32 and f64).
+pub trait ShScalar: Real {
+    /// The walk's constants in this type.
+    fn walk_tables() -> &'static WalkTables<Self>;
+}
+
+impl ShScalar for f32 {
+    #[inline(always)]
+    fn walk_tables() -> &'static WalkTables<Self> {
+        &WALK_F32
+    }
+}
+
+impl ShScalar for f64 {
+    #[inline(always)]
+    fn walk_tables() -> &'static WalkTables<Self> {
+        &WALK_F64
+    }
+}
+
 /// Σ_k rows[k] · Y_k(dir), with `rows` in the walk order of `degree`
 /// ([`walk_position`]): the weighted sums of eqs. (7)-(8), fused with the
 /// SH recurrence so that no intermediate buffer is written. `dir` must be
 /// unit length; rows beyond `rows.len()` count as zero.
 #[inline]
-pub fn accumulate<T: Real, const W: usize>(
+pub fn accumulate<T: ShScalar, const W: usize>(
     degree: usize,
     dir: &Vector3<T>,
     rows: &[[T; W]],
@@ -261,7 +282,7 @@ pub fn accumulate<T: Real, const W: usize>(
 }
 
 /// Writes `Y_lm(dir)` in walk order into `out`; returns the count written.
-pub fn evaluate_walk<T: Real>(degree: usize, dir: &Vector3<T>, out: &mut [T]) -> usize {
+pub fn evaluate_walk<T: ShScalar>(degree: usize, dir: &Vector3<T>, out: &mut [T]) -> usize {
     let mut slots = out.iter_mut();
     let mut written = 0;
     walk(degree, dir, |y| {
@@ -275,7 +296,7 @@ pub fn evaluate_walk<T: Real>(degree: usize, dir: &Vector3<T>, out: &mut [T]) ->
 
 /// Calls `emit` with every `Y_lm(dir)`, `l <= degree`, in walk order.
 #[inline(always)]
-fn walk<T: Real>(degree: usize, dir: &Vector3<T>, mut emit: impl FnMut(T)) {
+fn walk<T: ShScalar>(degree: usize, dir: &Vector3<T>, mut emit: impl FnMut(T)) {
     let degree = degree.min(MAX_DEGREE);
     let t = T::walk_tables();
     let (x, y, z) = (dir.x, dir.y, dir.z);

@@ -16,11 +16,12 @@
 //! form of eq. (5) scaled by the spin ratio. A pure Magnus term of scale
 //! `c` is `K_ijk = c ε_ijk` ([`SpinCoupling::magnus`]).
 //!
-//! Stored as extension [`SPIN_COUPLING`](crate::coefficients::extension_kind::SPIN_COUPLING),
+//! Stored as extension [`SPIN_COUPLING`](crate::extension::extension_kind::SPIN_COUPLING),
 //! payload version 1: the 27 numbers `K_ijk` in the order i, j, k
 //! (k fastest), each an `f32`, little-endian (108 bytes).
 
-use crate::coefficients::{extension_kind, Extension, ModelError};
+use crate::error::ModelError;
+use crate::extension::{extension_kind, Extension};
 use crate::math::Real;
 use nalgebra::Vector3;
 
@@ -93,6 +94,28 @@ impl<T: Real> SpinCoupling<T> {
         };
         let [r0, r1, r2] = &self.k;
         Vector3::new(row(r0), row(r1), row(r2))
+    }
+
+    /// The Magnus part of K: the `c` of the pure Magnus tensor `c ε_ijk`
+    /// ([`Self::magnus`]) closest to K, i.e. K's projection on the
+    /// Levi-Civita tensor, `Σ K_ijk ε_ijk / 6` (non-dimensional, as K;
+    /// the Magnus force is then `½ρ L³ c (Ω × V)`).
+    pub fn magnus_scale(&self) -> f64 {
+        let e = SpinCoupling::<f64>::magnus(1.0);
+        self.k
+            .iter()
+            .flatten()
+            .zip(e.k.iter().flatten())
+            .map(|(a, b)| a.as_f64() * b)
+            .sum::<f64>()
+            / 6.0
+    }
+
+    /// The Frobenius norm `|K|` (non-dimensional): how strong the coupling
+    /// is overall, Magnus part or not.
+    pub fn norm(&self) -> f64 {
+        let squares = self.k.iter().flatten().map(|x| x.as_f64() * x.as_f64());
+        libm::sqrt(squares.sum::<f64>())
     }
 
     /// The model extension holding this tensor (payload version 1).

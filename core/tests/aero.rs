@@ -6,7 +6,7 @@ use omniad_core::Coefficients;
 use std::f64::consts::PI;
 
 /// Degree 0, pole +x: C_F = -E + 0.5 E2, C_T = 0.2 E3, D = diag(.1,.2,.3).
-fn hand_model<T: omniad_core::Real>() -> Coefficients<T> {
+fn hand_model<T: omniad_core::LaneScalar>() -> Coefficients<T> {
     let s = (4.0 * PI).sqrt();
     let c = T::of_f64;
     let mut m = Coefficients::zeros(0, Vector3::x(), c(0.5)).unwrap();

@@ -1,15 +1,15 @@
 //! Generates the primitive library in `data/primitives/`: example boxes and
 //! plates, each made by projecting the independent quasi-steady panel model
-//! (`omniad_acquire::panel`) onto OmniAD coefficients (eqs. 11, 13 via
-//! `omniad_acquire::projection`), with the damping tensor D fitted to the
+//! (`omniad_core::reference::panel`) onto OmniAD coefficients (eqs. 11, 13
+//! via `omniad_core::projection`), with the damping tensor D fitted to the
 //! same panel model (eq. 12).
 //!
 //! Regenerate with `cargo run --release -p omniad-kite --example gen_primitives -- data/primitives`.
 
 use anyhow::{Context, Result};
 use nalgebra::Vector3;
-use omniad_acquire::panel::PanelModel;
-use omniad_acquire::projection::project;
+use omniad_core::projection::project;
+use omniad_core::reference::panel::PanelModel;
 use omniad_core::Coefficients;
 use std::fmt::Write as _;
 use std::path::Path;
@@ -69,7 +69,7 @@ pub fn example(size: &[f64; 3], degree: u8) -> Result<Coefficients<f64>> {
     .map_err(|e| anyhow::anyhow!("name: {e}"))?;
     c.provenance.method = heapless::String::try_from("projection").unwrap_or_default();
     c.provenance.source = heapless::String::try_from(
-        "acquire::panel quasi-steady panel model, projected (eqs. 11, 13)",
+        "omniad_core::reference::panel quasi-steady panel model, projected (eqs. 11, 13)",
     )
     .unwrap_or_default();
     Ok(c)

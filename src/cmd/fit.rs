@@ -181,15 +181,15 @@ fn summary(o: &FitOutcome, a: &FitArgs, total: f64) {
     match o.model.gravity_coupling() {
         Some(g) => println!(
             "gravity coupling kept: buoyancy-equivalent volume {:.3e} m^3",
-            super::info::buoyancy_volume(g, o.model.reference_length())
+            g.buoyancy_volume(o.model.reference_length())
         ),
         None => println!("gravity coupling: none"),
     }
     match o.model.spin_coupling() {
         Some(k) => println!(
             "spin coupling kept: Magnus part {:.4}, |K| {:.4}",
-            super::info::magnus_scale(&k.k),
-            k.k.iter().flatten().map(|x| x * x).sum::<f64>().sqrt()
+            k.magnus_scale(),
+            k.norm()
         ),
         None => println!("spin coupling: none"),
     }
@@ -254,11 +254,11 @@ fn report(o: &FitOutcome, loaded: f64, total: f64) -> serde_json::Value {
         "damping": o.model.damping().as_slice(),
         "spin_coupling": o.model.spin_coupling().map(|k| json!({
             "tensor_k_ijk": k.k,
-            "magnus_scale": super::info::magnus_scale(&k.k),
+            "magnus_scale": k.magnus_scale(),
         })),
         "gravity_coupling": o.model.gravity_coupling().map(|g| json!({
             "matrix_g_rows": [g.g.row(0).iter().collect::<Vec<_>>(), g.g.row(1).iter().collect::<Vec<_>>(), g.g.row(2).iter().collect::<Vec<_>>()],
-            "buoyancy_volume_m3": super::info::buoyancy_volume(g, o.model.reference_length()),
+            "buoyancy_volume_m3": g.buoyancy_volume(o.model.reference_length()),
         })),
         "timings": { "load_s": loaded, "total_s": total },
     })

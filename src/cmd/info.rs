@@ -91,11 +91,11 @@ fn summary(m: &Coefficients<f64>) -> serde_json::Value {
         "extensions": m.extensions().iter().map(|e| json!({"kind": e.kind, "version": e.version, "bytes": e.data.len()})).collect::<Vec<_>>(),
         "spin_coupling": m.spin_coupling().map(|s| json!({
             "tensor_k_ijk": s.k,
-            "magnus_scale": magnus_scale(&s.k),
+            "magnus_scale": s.magnus_scale(),
         })),
         "gravity_coupling": m.gravity_coupling().map(|g| json!({
             "matrix_g_rows": [g.g.row(0).iter().collect::<Vec<_>>(), g.g.row(1).iter().collect::<Vec<_>>(), g.g.row(2).iter().collect::<Vec<_>>()],
-            "buoyancy_volume_m3": buoyancy_volume(g, m.reference_length()),
+            "buoyancy_volume_m3": g.buoyancy_volume(m.reference_length()),
         })),
     })
 }
@@ -151,35 +151,14 @@ fn print_text(m: &Coefficients<f64>, s: &serde_json::Value) {
     if let Some(g) = m.gravity_coupling() {
         println!(
             "gravity coupling:  buoyancy-equivalent volume {:.3e} m^3 (F = ρL³ G Rᵀg)",
-            buoyancy_volume(g, m.reference_length())
+            g.buoyancy_volume(m.reference_length())
         );
     }
     if let Some(s) = m.spin_coupling() {
-        let norm = s.k.iter().flatten().map(|x| x * x).sum::<f64>().sqrt();
         println!(
-            "spin coupling:     |K| {norm:.4}, Magnus part {:.4} (F = ½ρL³ K:(Ω⊗V))",
-            magnus_scale(&s.k)
+            "spin coupling:     |K| {:.4}, Magnus part {:.4} (F = ½ρL³ K:(Ω⊗V))",
+            s.norm(),
+            s.magnus_scale()
         );
     }
-}
-
-/// The displaced volume whose buoyancy is the isotropic part of a
-/// gravity coupling, m³: `-L³ tr(G)/3` (buoyancy is `G = -(V/L³) I`).
-pub fn buoyancy_volume(
-    g: &omniad_core::gravity_coupling::GravityCoupling<f64>,
-    reference_length: f64,
-) -> f64 {
-    -g.g.trace() / 3.0 * reference_length.powi(3)
-}
-
-/// The Magnus part of a spin-coupling tensor: the `c` of `c ε_ijk` closest
-/// to K (its projection on the Levi-Civita tensor, `Σ K_ijk ε_ijk / 6`).
-pub fn magnus_scale(k: &[[f64; 9]; 3]) -> f64 {
-    let e = omniad_core::spin_coupling::SpinCoupling::<f64>::magnus(1.0);
-    k.iter()
-        .flatten()
-        .zip(e.k.iter().flatten())
-        .map(|(a, b)| a * b)
-        .sum::<f64>()
-        / 6.0
 }

@@ -1,5 +1,5 @@
 //! `omniad panel`: coefficients of an independent quasi-steady panel model
-//! (thin plate or open box, `omniad_acquire::panel`) projected onto the
+//! (thin plate or open box, `omniad_core::reference::panel`) projected onto the
 //! OmniAD SH model (eqs. 11, 13 by quadrature; D by eq. 12 on the panel
 //! model's rotational torques). This is how the bundled `data/plate.omni`
 //! is made:
@@ -12,9 +12,9 @@ use super::common::write_coefficients;
 use anyhow::{bail, Result};
 use clap::{Args, ValueEnum};
 use nalgebra::Vector3;
-use omniad_acquire::panel::PanelModel;
-use omniad_acquire::projection::project;
 use omniad_core::coefficients::MassProperties;
+use omniad_core::projection::project;
+use omniad_core::reference::panel::PanelModel;
 use std::path::PathBuf;
 
 /// Panel-model shapes.

@@ -2,9 +2,8 @@
 //! and loading `.omni` files.
 
 use nalgebra::Vector3;
-use omniad_core::basis::vector_basis;
 use omniad_core::coefficients::MassProperties;
-use omniad_core::{sh, Coefficients};
+use omniad_core::Coefficients;
 use std::f64::consts::PI;
 
 /// A named model shown by the views.
@@ -95,47 +94,11 @@ pub fn plate_analytic(e: &Vector3<f64>) -> (Vector3<f64>, Vector3<f64>) {
 }
 
 /// The built-in plate: [`plate_analytic`] projected onto spherical
-/// harmonics of degree 6 (quadrature on a 48 x 96 grid).
+/// harmonics of degree 6 (the core's projection, eqs. 11, 13).
 pub fn demo_plate() -> Coefficients<f64> {
     let mut m = unit_zeros(PLATE_DEGREE);
-    let count = m.coeff_count();
-    let mut acc = vec![[0.0f64; 6]; count];
-    let mut y = [0.0f64; sh::MAX_COEFFS];
-    let (nt, np) = (48usize, 96usize);
-    for i in 0..nt {
-        let theta = PI * (i as f64 + 0.5) / nt as f64;
-        let w = theta.sin() * (PI / nt as f64) * (2.0 * PI / np as f64);
-        for j in 0..np {
-            let phi = 2.0 * PI * (j as f64 + 0.5) / np as f64;
-            let e = Vector3::new(
-                theta.sin() * phi.cos(),
-                theta.sin() * phi.sin(),
-                theta.cos(),
-            );
-            let (f, t) = plate_analytic(&e);
-            let [b1, b2, b3] = vector_basis(&e, &m.pole());
-            let vals = [
-                f.dot(&b1),
-                f.dot(&b2),
-                f.dot(&b3),
-                t.dot(&b1),
-                t.dot(&b2),
-                t.dot(&b3),
-            ];
-            let n = sh::evaluate(PLATE_DEGREE as usize, &e, &mut y);
-            for (row, &yk) in acc.iter_mut().zip(y.iter()).take(n) {
-                for (a, v) in row.iter_mut().zip(vals) {
-                    *a += w * yk * v;
-                }
-            }
-        }
-    }
-    for (k, row) in acc.iter().enumerate() {
-        for c in 0..3 {
-            let _ = m.set_alpha(c, k, row.get(c).copied().unwrap_or(0.0));
-            let _ = m.set_beta(c, k, row.get(c + 3).copied().unwrap_or(0.0));
-        }
-    }
+    // Finite analytic values at degree 6 always project.
+    let _ = omniad_core::projection::project_into(&mut m, plate_analytic);
     let _ = m.set_name("plate");
     let _ = m.set_damping(&(nalgebra::Matrix3::identity() * 0.02));
     m.body = Some(PLATE_BODY);

@@ -21,12 +21,13 @@ pub mod statics;
 pub mod trim;
 
 use crate::coefficients::Coefficients;
+use crate::lanes::LaneScalar;
 use crate::math::Real;
 use nalgebra::{Matrix3, Vector3};
 
 /// One primitive of a kite (Fig. 10-right).
 #[derive(Clone, Copy, Debug)]
-pub struct Primitive<'a, T: Real> {
+pub struct Primitive<'a, T: LaneScalar> {
     /// The primitive's OmniAD coefficients (its own reference length L).
     pub coefficients: &'a Coefficients<T>,
     /// `Q_p`: primitive frame -> kite body frame (a rotation matrix).
@@ -38,7 +39,7 @@ pub struct Primitive<'a, T: Real> {
 
 /// A kite: its primitives and its total mass.
 #[derive(Clone, Copy, Debug)]
-pub struct Kite<'a, T: Real> {
+pub struct Kite<'a, T: LaneScalar> {
     /// The primitives `P`.
     pub primitives: &'a [Primitive<'a, T>],
     /// Total mass M (frame, covering, sockets, objects), kg.

@@ -5,6 +5,7 @@
 
 use super::statics::kite_torque;
 use super::{skew, Conditions, Kite, KiteError};
+use crate::lanes::LaneScalar;
 use crate::math::{lit, norm, vector_is_finite, Real};
 use nalgebra::{Matrix3, SymmetricEigen, UnitQuaternion, Vector3};
 
@@ -20,7 +21,7 @@ fn relative_step<T: Real>() -> T {
 
 /// `∂(F_p, T_p)/∂V_p` of one primitive's eqs. (5)-(6) at `V_p` (its own
 /// frame), by central differences in the air velocity: `(A_p, B_p)`.
-fn primitive_sensitivity<T: Real>(
+fn primitive_sensitivity<T: LaneScalar>(
     coefficients: &crate::Coefficients<T>,
     v: &Vector3<T>,
     air_density: T,
@@ -57,7 +58,7 @@ fn primitive_sensitivity<T: Real>(
 /// its air velocity) are central differences. [`jacobian_numeric`]
 /// differentiates the whole of eq. (15) instead; the two are compared in
 /// the tests.
-pub fn jacobian<T: Real>(
+pub fn jacobian<T: LaneScalar>(
     kite: &Kite<'_, T>,
     conditions: &Conditions<T>,
     orientation: &UnitQuaternion<T>,
@@ -88,7 +89,7 @@ pub fn jacobian<T: Real>(
 /// `J` by central differences of eq. (15) over `Θ` (step `step` rad),
 /// with the string tension recomputed from linear equilibrium at each
 /// perturbed orientation.
-pub fn jacobian_numeric<T: Real>(
+pub fn jacobian_numeric<T: LaneScalar>(
     kite: &Kite<'_, T>,
     conditions: &Conditions<T>,
     orientation: &UnitQuaternion<T>,
@@ -178,7 +179,7 @@ fn canonical_sign<T: Real>(v: Vector3<T>) -> Vector3<T> {
 
 /// Stability at orientation R with attachment P (body frame): the
 /// analytic-chain Jacobian and the axes of its symmetric part.
-pub fn stability<T: Real>(
+pub fn stability<T: LaneScalar>(
     kite: &Kite<'_, T>,
     conditions: &Conditions<T>,
     orientation: &UnitQuaternion<T>,

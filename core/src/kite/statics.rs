@@ -3,6 +3,7 @@
 
 use super::{Conditions, Kite, KiteError, Primitive};
 use crate::aero::Wrench;
+use crate::lanes::LaneScalar;
 use crate::math::{norm, vector_is_finite, Real};
 use nalgebra::{UnitQuaternion, Vector3};
 
@@ -15,7 +16,7 @@ use nalgebra::{UnitQuaternion, Vector3};
 ///   through the air at `V_p = Q_pᵀ (V + Ω × Y_p)` and spins at
 ///   `Ω_p = Q_pᵀ Ω` (its damping term of eq. 6 included);
 /// * `air_density`: ρ, kg/m³.
-pub fn air_wrench<T: Real>(
+pub fn air_wrench<T: LaneScalar>(
     primitives: &[Primitive<'_, T>],
     velocity: &Vector3<T>,
     angular_velocity: &Vector3<T>,
@@ -53,7 +54,7 @@ pub struct Equilibrium<T: Real> {
 
 /// Linear equilibrium at orientation `orientation` (R, body -> world): the
 /// kite at rest in the wind, eq. (14) solved for `f_string`.
-pub fn equilibrium<T: Real>(
+pub fn equilibrium<T: LaneScalar>(
     kite: &Kite<'_, T>,
     conditions: &Conditions<T>,
     orientation: &UnitQuaternion<T>,
@@ -125,7 +126,7 @@ pub fn gamma_for_distance<T: Real>(eq: &Equilibrium<T>, distance: T) -> Result<T
 
 /// The unbalanced torque at orientation R for a fixed attachment point P
 /// (body frame), recomputing the string tension from linear equilibrium.
-pub fn kite_torque<T: Real>(
+pub fn kite_torque<T: LaneScalar>(
     kite: &Kite<'_, T>,
     conditions: &Conditions<T>,
     orientation: &UnitQuaternion<T>,

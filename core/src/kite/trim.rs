@@ -10,6 +10,7 @@
 use super::stability::jacobian;
 use super::statics::kite_torque;
 use super::{Conditions, Kite, KiteError};
+use crate::lanes::LaneScalar;
 use crate::math::{lit, norm, Real};
 use nalgebra::{Matrix3, UnitQuaternion, Vector3};
 
@@ -51,7 +52,7 @@ pub struct Trim<T: Real> {
 /// `attachment` (body frame, m). Returns the best orientation found and
 /// whether it balances; a non-converged result means no trim was found
 /// from this start (not necessarily that none exists).
-pub fn trim<T: Real>(
+pub fn trim<T: LaneScalar>(
     kite: &Kite<'_, T>,
     conditions: &Conditions<T>,
     start: &UnitQuaternion<T>,

@@ -7,11 +7,10 @@
 //! without them the portable path runs.
 
 use super::{
-    first_powers, group_ab, group_start, Lanes, SimdCoefficients, BLOCKS, LANES, LANES_F32,
+    first_powers, group_ab, group_start, Lanes, SimdCoefficients, SimdKernel, BLOCKS, LANES,
+    LANES_F32, SETS,
 };
-use crate::coefficients::SETS;
 use crate::sh::MAX_DEGREE;
-use crate::{Coefficients, Wrench};
 use core::arch::x86_64::{
     __cpuid, __m128, __m256, _mm256_castps256_ps128, _mm256_extractf128_ps, _mm256_fmadd_ps,
     _mm256_fmsub_ps, _mm256_hadd_ps, _mm256_load_ps, _mm256_mul_ps, _mm256_set1_ps,
@@ -61,17 +60,12 @@ impl SimdCoefficients<f32> for LaneBlocks {
         }
     }
     #[inline(always)]
-    fn wrench(
-        model: &Coefficients<f32>,
-        velocity: &Vector3<f32>,
-        angular_velocity: &Vector3<f32>,
-        air_density: f32,
-    ) -> Wrench<f32> {
+    fn run<K: SimdKernel>(kernel: &K) -> K::Output {
         if has_avx() {
             // SAFETY: AVX and FMA support was just checked.
-            unsafe { wrench_avx(model, velocity, angular_velocity, air_density) }
+            unsafe { run_avx(kernel) }
         } else {
-            model.wrench_inline(velocity, angular_velocity, air_density)
+            kernel.run()
         }
     }
     #[inline]
@@ -85,15 +79,11 @@ impl SimdCoefficients<f32> for LaneBlocks {
     }
 }
 
-/// [`Coefficients::wrench`] compiled with AVX and FMA enabled.
+/// `kernel` (e.g. [`crate::Coefficients::wrench`]) compiled with AVX and
+/// FMA enabled.
 #[target_feature(enable = "avx,fma")]
-fn wrench_avx(
-    model: &Coefficients<f32>,
-    velocity: &Vector3<f32>,
-    angular_velocity: &Vector3<f32>,
-    air_density: f32,
-) -> Wrench<f32> {
-    model.wrench_inline(velocity, angular_velocity, air_density)
+fn run_avx<K: SimdKernel>(kernel: &K) -> K::Output {
+    kernel.run()
 }
 
 /// The blocks of group `g`'s steps `0..steps`.

@@ -12,13 +12,12 @@
 //! `C_T = (r_cp / L) × C_F` with the centre of pressure `r_cp` 0.25 m aft
 //! and 3 m above the centre of mass (which the control unit pulls below
 //! the canopy); damping `D` = 0.005 I. The pole is `n`. The projection is
-//! a midpoint/trapezoid quadrature on a 96 x 96 grid.
+//! the core's (eqs. 11, 13, `omniad_core::projection`).
 
 use crate::process::DEFAULT_BODY;
 use nalgebra::{Matrix3, Vector3};
-use omniad_core::basis::vector_basis;
 use omniad_core::coefficients::Provenance;
-use omniad_core::sh::{self, MAX_COEFFS};
+use omniad_core::projection::project;
 use omniad_core::{Coefficients, ModelError};
 
 /// SH degree of the default model (the budget is stated at N = 8).
@@ -32,7 +31,6 @@ const C_N: f64 = 4.0;
 const S0: f64 = 0.1;
 const C_D: f64 = 0.1;
 const R_CP: [f64; 3] = [-0.25, 0.0, -3.0];
-const GRID: usize = 96;
 
 fn coefficients_at(e: &Vector3<f64>) -> (Vector3<f64>, Vector3<f64>) {
     let n = Vector3::z();
@@ -44,47 +42,8 @@ fn coefficients_at(e: &Vector3<f64>) -> (Vector3<f64>, Vector3<f64>) {
 
 /// Builds the default kite model (f64, ready to encode).
 pub fn default_model() -> Result<Coefficients<f64>, ModelError> {
-    let mut m = Coefficients::zeros(DEGREE, Vector3::z(), REFERENCE_LENGTH)?;
+    let mut m = project(DEGREE, Vector3::z(), REFERENCE_LENGTH, coefficients_at)?;
     m.set_name("kitepower-v3-plate-like")?;
-    let count = sh::coeff_count(DEGREE as usize);
-    let mut acc = [[0.0f64; 6]; MAX_COEFFS];
-    let mut y = [0.0f64; MAX_COEFFS];
-    let pi = core::f64::consts::PI;
-    let (dt, dp) = (pi / GRID as f64, 2.0 * pi / GRID as f64);
-    for i in 0..GRID {
-        let theta = (i as f64 + 0.5) * dt;
-        let (st, ct) = (libm::sin(theta), libm::cos(theta));
-        let w = st * dt * dp;
-        for j in 0..GRID {
-            let phi = j as f64 * dp;
-            let e = Vector3::new(st * libm::cos(phi), st * libm::sin(phi), ct);
-            let (cf, ct_) = coefficients_at(&e);
-            let [e1, e2, e3] = vector_basis(&e, &Vector3::z());
-            let vals = [
-                cf.dot(&e1),
-                cf.dot(&e2),
-                cf.dot(&e3),
-                ct_.dot(&e1),
-                ct_.dot(&e2),
-                ct_.dot(&e3),
-            ];
-            let n = sh::evaluate(DEGREE as usize, &e, &mut y);
-            for (row, &yk) in acc.iter_mut().zip(y.iter()).take(n) {
-                for (a, v) in row.iter_mut().zip(vals) {
-                    *a += w * yk * v;
-                }
-            }
-        }
-    }
-    for (k, row) in acc.iter().enumerate().take(count) {
-        let [a1, a2, a3, b1, b2, b3] = *row;
-        m.set_alpha(0, k, a1)?;
-        m.set_alpha(1, k, a2)?;
-        m.set_alpha(2, k, a3)?;
-        m.set_beta(0, k, b1)?;
-        m.set_beta(1, k, b2)?;
-        m.set_beta(2, k, b3)?;
-    }
     m.set_damping(&(Matrix3::identity() * 0.005))?;
     m.body = Some(DEFAULT_BODY);
     let mut p = Provenance::default();

@@ -2,9 +2,9 @@
 //!
 //! This is *not* the OmniAD model: it is a classical strip/panel estimate
 //! used to make honest example coefficients (the bundled plate, the
-//! KiteShop primitives) by projecting it onto spherical harmonics
-//! ([`crate::projection`]), and as a generator physics independent of the
-//! SH representation.
+//! KiteShop primitives, the synthetic recording sets) by projecting it onto
+//! spherical harmonics ([`crate::projection`]), and as a generator physics
+//! independent of the SH representation.
 //!
 //! Each flat rectangular panel feels, for an air-relative velocity `u` of
 //! its centre (the body moving at `u` through still air):
@@ -22,6 +22,8 @@
 //! Panels do not shadow one another (KiteShop forbids overlap along the
 //! wind, §7).
 
+use crate::math::{nearest_psd, symmetric_from_six, symmetric_times_vector_rows};
+use crate::quadrature::fibonacci_sphere;
 use nalgebra::{Matrix3, Vector3};
 
 /// Flat-plate normal-force coefficient at 90°, after Hoerner.
@@ -30,6 +32,8 @@ pub const NORMAL_COEFFICIENT_90: f64 = 1.17;
 pub const FRICTION_COEFFICIENT: f64 = 0.02;
 /// Elements per panel edge for the rotational integral.
 const GRID: usize = 8;
+/// Most panels in one model (an open box has four).
+pub const MAX_PANELS: usize = 4;
 
 /// One thin rectangular panel, body frame.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -65,7 +69,7 @@ impl Panel {
 #[derive(Clone, Debug, PartialEq)]
 pub struct PanelModel {
     /// The panels, body frame (origin at the centre of mass).
-    pub panels: Vec<Panel>,
+    pub panels: heapless::Vec<Panel, MAX_PANELS>,
 }
 
 /// Flat-plate normal-force law `C_N(α)`, α from `sin α`.
@@ -78,13 +82,13 @@ impl PanelModel {
     /// A thin plate `lx` x `ly` (m) in the body x-y plane, normal +z.
     pub fn plate(lx: f64, ly: f64) -> Self {
         Self {
-            panels: vec![Panel {
+            panels: heapless::Vec::from_array([Panel {
                 center: Vector3::zeros(),
                 axis_u: Vector3::x(),
                 axis_v: Vector3::y(),
                 half_u: lx / 2.0,
                 half_v: ly / 2.0,
-            }],
+            }]),
         }
     }
 
@@ -99,12 +103,12 @@ impl PanelModel {
             half_u: hu,
             half_v: hv,
         };
-        let panels = vec![
+        let panels = heapless::Vec::from_array([
             side(x * (lx / 2.0), y, z, ly / 2.0, lz / 2.0),
             side(-x * (lx / 2.0), z, y, lz / 2.0, ly / 2.0),
             side(z * (lz / 2.0), x, y, lx / 2.0, ly / 2.0),
             side(-z * (lz / 2.0), y, x, ly / 2.0, lx / 2.0),
-        ];
+        ]);
         Self { panels }
     }
 
@@ -167,19 +171,15 @@ impl PanelModel {
     /// to the positive semi-definite cone.
     pub fn damping_tensor(&self, l: f64) -> Matrix3<f64> {
         let rho = 1.0;
-        let dirs = fibonacci_sphere(200);
         // Unknowns d = [xx, yy, zz, xy, xz, yz]; T = -½ρL⁵ D w for unit w.
         let mut ata = nalgebra::SMatrix::<f64, 6, 6>::zeros();
         let mut atb = nalgebra::SVector::<f64, 6>::zeros();
-        let scale = -0.5 * rho * l.powi(5);
-        for w in &dirs {
-            let t = self.rotation_torque(w, rho);
-            let rows = [
-                [w.x, 0.0, 0.0, w.y, w.z, 0.0],
-                [0.0, w.y, 0.0, w.x, 0.0, w.z],
-                [0.0, 0.0, w.z, 0.0, w.x, w.y],
-            ];
-            for (row, ti) in rows.iter().zip(t.iter()) {
+        // L⁵ as (L²)² L, the rounding of `powi(5)`.
+        let l2 = l * l;
+        let scale = -0.5 * rho * (l * (l2 * l2));
+        for w in fibonacci_sphere(200) {
+            let t = self.rotation_torque(&w, rho);
+            for (row, ti) in symmetric_times_vector_rows(&w).iter().zip(t.iter()) {
                 let a = nalgebra::SVector::<f64, 6>::from(*row) * scale;
                 ata += a * a.transpose();
                 atb += a * *ti;
@@ -189,34 +189,13 @@ impl PanelModel {
             .cholesky()
             .map(|c| c.solve(&atb))
             .unwrap_or_else(nalgebra::SVector::zeros);
-        let m = Matrix3::new(d[0], d[3], d[4], d[3], d[1], d[5], d[4], d[5], d[2]);
-        nearest_psd(&m)
+        nearest_psd(&symmetric_from_six(d.into()))
     }
-}
-
-/// The positive semi-definite matrix nearest to symmetric `m`
-/// (negative eigenvalues clipped to zero).
-pub fn nearest_psd(m: &Matrix3<f64>) -> Matrix3<f64> {
-    let eig = m.symmetric_eigen();
-    let clipped = eig.eigenvalues.map(|x| x.max(0.0));
-    eig.eigenvectors * Matrix3::from_diagonal(&clipped) * eig.eigenvectors.transpose()
-}
-
-/// `n` nearly uniform unit vectors (Fibonacci lattice).
-pub fn fibonacci_sphere(n: usize) -> Vec<Vector3<f64>> {
-    let golden = std::f64::consts::PI * (3.0 - 5f64.sqrt());
-    (0..n)
-        .map(|i| {
-            let z = 1.0 - 2.0 * (i as f64 + 0.5) / n as f64;
-            let r = (1.0 - z * z).sqrt();
-            let phi = golden * i as f64;
-            Vector3::new(r * phi.cos(), r * phi.sin(), z)
-        })
-        .collect()
 }
 
 #[cfg(test)]
 mod tests {
+    #![allow(clippy::indexing_slicing)]
     use super::*;
 
     #[test]

@@ -1,0 +1,83 @@
+//! Projection of a direction function onto OmniAD coefficients, eqs. (11)
+//! and (13): `alpha^i_lm = ∫ (C_F(E)·E^i) Y_lm(E) dS` and
+//! `beta^i_lm = ∫ (C_T(E)·E^i) Y_lm(E) dS`, by the product rule of
+//! [`crate::quadrature::sphere_quadrature`] about the model's pole. How
+//! reference models (the panel model of [`crate::reference::panel`], the
+//! firmware's default kite, the terminal UI's built-in plate) become
+//! coefficient models.
+
+use crate::basis::vector_basis;
+use crate::coefficients::{Coefficients, ModelError, SETS};
+use crate::quadrature::sphere_quadrature;
+use crate::sh::{self, MAX_COEFFS};
+use nalgebra::Vector3;
+
+/// Projects `f(E) = (C_F(E), C_T(E))` (body frame, non-dimensional, eqs.
+/// 7-8) onto new coefficients of `degree` with the given pole and
+/// reference length L (m); D, name, body and provenance are left empty.
+pub fn project(
+    degree: u8,
+    pole: Vector3<f64>,
+    reference_length: f64,
+    f: impl FnMut(&Vector3<f64>) -> (Vector3<f64>, Vector3<f64>),
+) -> Result<Coefficients<f64>, ModelError> {
+    let mut model = Coefficients::zeros(degree, pole, reference_length)?;
+    project_into(&mut model, f)?;
+    Ok(model)
+}
+
+/// Writes the projection of `f` (as [`project`]) into alpha and beta of
+/// `model`, at its degree and about its pole; everything else in `model`
+/// is kept.
+pub fn project_into(
+    model: &mut Coefficients<f64>,
+    mut f: impl FnMut(&Vector3<f64>) -> (Vector3<f64>, Vector3<f64>),
+) -> Result<(), ModelError> {
+    let pole = model.pole();
+    let degree = model.degree() as usize;
+    let mut sums = [[0.0f64; SETS]; MAX_COEFFS];
+    let mut y = [0.0; MAX_COEFFS];
+    for (e, w) in sphere_quadrature(&pole) {
+        let (cf, ct) = f(&e);
+        let [e1, e2, e3] = vector_basis(&e, &pole);
+        let proj = [
+            cf.dot(&e1),
+            cf.dot(&e2),
+            cf.dot(&e3),
+            ct.dot(&e1),
+            ct.dot(&e2),
+            ct.dot(&e3),
+        ];
+        let count = sh::evaluate(degree, &e, &mut y);
+        for (row, yk) in sums.iter_mut().zip(y.iter().take(count)) {
+            for (s, p) in row.iter_mut().zip(&proj) {
+                *s += w * yk * p;
+            }
+        }
+    }
+    for (k, row) in sums.iter().enumerate().take(model.coeff_count()) {
+        let [a1, a2, a3, b1, b2, b3] = *row;
+        for (i, (a, b)) in [(a1, b1), (a2, b2), (a3, b3)].into_iter().enumerate() {
+            model.set_alpha(i, k, a)?;
+            model.set_beta(i, k, b)?;
+        }
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    #![allow(clippy::unwrap_used)]
+    use super::*;
+
+    #[test]
+    fn band_limited_function_is_reproduced() {
+        // C_F = -E (pure isotropic drag of 1) is exactly alpha^1_00 = -sqrt(4π).
+        let m = project(4, Vector3::z(), 1.0, |e| (-e, Vector3::zeros())).unwrap();
+        let sqrt_4pi = libm::sqrt(4.0 * core::f64::consts::PI);
+        assert!((m.alpha(0, 0).unwrap() + sqrt_4pi).abs() < 1e-10);
+        let c = m.at_direction(&Vector3::new(0.2, -0.5, 0.7)).unwrap();
+        let e = Vector3::new(0.2, -0.5, 0.7).normalize();
+        assert!((c.force + e).norm() < 1e-9, "{:?}", c.force);
+    }
+}
