@@ -311,6 +311,7 @@ fn firmware_telemetry_csv_is_replayed_with_eigenvalues() {
         labels,
         [
             "|force|",
+            "tether measured",
             "tether predicted",
             "tether residual",
             "λ1",
