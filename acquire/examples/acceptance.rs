@@ -9,8 +9,8 @@
 //! true and fitted C_F at every truth grid direction, as CSV).
 
 use omniad_acquire::pipeline::{self, FitConfig, Method, Silent};
-use omniad_acquire::recording::RecordingSet;
-use omniad_acquire::truth::{
+use omniad_acquire::input::recording::RecordingSet;
+use omniad_acquire::synth::truth::{
     fitted_directions, force_error, read_coefficients, read_states, state_error, StateError,
 };
 use std::path::Path;
@@ -130,18 +130,18 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     if let Ok(path) = std::env::var("DUMP") {
         std::fs::write(path, directions_csv(&out.model, &truth, &dirs))?;
     }
-    let ctx = omniad_acquire::fit_lsq::FitContext {
+    let ctx = omniad_acquire::fit::lsq::FitContext {
         air_density: set.world.air_density,
         reference_length: set.object.reference_length,
         pole: set.object.pole,
     };
     println!(
         "last fit's smoothing {:?}",
-        omniad_acquire::fit_lsq::force_smoothing(&out.samples, &ctx, &cfg.lsq)
+        omniad_acquire::fit::lsq::force_smoothing(&out.samples, &ctx, &cfg.lsq)
     );
     println!(
         "last torque fit's smoothing {:?}",
-        omniad_acquire::fit_lsq::torque_smoothing(&out.samples, &ctx, &cfg.lsq)
+        omniad_acquire::fit::lsq::torque_smoothing(&out.samples, &ctx, &cfg.lsq)
     );
     println!("D = {:?}", out.model.damping());
     println!("fit wall time {fit_time:.2} s");

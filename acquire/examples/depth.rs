@@ -4,10 +4,10 @@
 //! `cargo run --release -p omniad-acquire --example depth -- SET`.
 
 use nalgebra::{Quaternion, SMatrix, SVector, UnitQuaternion, Vector3};
-use omniad_acquire::measurement::marker_pixel;
-use omniad_acquire::recording::RecordingSet;
-use omniad_acquire::tracks::Observation;
-use omniad_acquire::truth::read_states;
+use omniad_acquire::reconstruct::measurement::marker_pixel;
+use omniad_acquire::input::recording::RecordingSet;
+use omniad_acquire::input::tracks::Observation;
+use omniad_acquire::synth::truth::read_states;
 use omniad_core::State;
 use std::path::Path;
 

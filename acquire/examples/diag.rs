@@ -8,11 +8,11 @@
 //! `FilterConfig::mirror_window` (0: no mirror-branch tests).
 
 use nalgebra::{Quaternion, UnitQuaternion, Vector3};
-use omniad_acquire::filter::FilterConfig;
+use omniad_acquire::reconstruct::filter::FilterConfig;
 use omniad_acquire::pipeline::{self, Silent};
-use omniad_acquire::recording::RecordingSet;
+use omniad_acquire::input::recording::RecordingSet;
 use omniad_acquire::synth::{truth_model, ObjectSpec, SynthObject};
-use omniad_acquire::truth::read_states;
+use omniad_acquire::synth::truth::read_states;
 use std::path::Path;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
@@ -25,7 +25,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let model = match args.get(2).map(String::as_str) {
         Some("plate") => truth_model(&ObjectSpec::of(SynthObject::Plate), 8)?,
         Some("box") => truth_model(&ObjectSpec::of(SynthObject::Box), 8)?,
-        _ => omniad_acquire::model::zero_model(&set.object, 8)?,
+        _ => omniad_acquire::fit::model::zero_model(&set.object, 8)?,
     };
     let scale: f64 = args.get(3).and_then(|s| s.parse().ok()).unwrap_or(1.0);
     let mut noise = pipeline::initial_noise(&set);
@@ -83,8 +83,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             ..FilterConfig::default()
         };
         config.pixel_noise = set.camera.as_ref().map(|c| c.pixel_noise).unwrap_or(1.0);
-        let filter = omniad_acquire::filter::Filter {
-            process: omniad_acquire::process::Process {
+        let filter = omniad_acquire::reconstruct::filter::Filter {
+            process: omniad_acquire::reconstruct::process::Process {
                 body,
                 environment: pipeline::environment(&set),
                 model: &model,

@@ -6,12 +6,12 @@
 //! `cargo run --release -p omniad-acquire --example forcenoise -- SET`.
 
 use nalgebra::Vector3;
-use omniad_acquire::forces::ForceStats;
-use omniad_acquire::model::zero_model;
+use omniad_acquire::reconstruct::forces::ForceStats;
+use omniad_acquire::fit::model::zero_model;
 use omniad_acquire::pipeline::{self, FitConfig, Silent};
-use omniad_acquire::recording::RecordingSet;
-use omniad_acquire::rng::Rng;
-use omniad_acquire::truth::{fitted_directions, force_error, read_coefficients, true_trajectories};
+use omniad_acquire::input::recording::RecordingSet;
+use omniad_acquire::synth::rng::Rng;
+use omniad_acquire::synth::truth::{fitted_directions, force_error, read_coefficients, true_trajectories};
 use std::collections::HashMap;
 use std::path::Path;
 

@@ -8,12 +8,12 @@
 //! `cargo run --release -p omniad-acquire --example missing_terms -- SET`.
 
 use nalgebra::{DMatrix, DVector};
-use omniad_acquire::forces::ForceStats;
-use omniad_acquire::model::zero_model;
+use omniad_acquire::reconstruct::forces::ForceStats;
+use omniad_acquire::fit::model::zero_model;
 use omniad_acquire::pipeline::{self, FitConfig};
-use omniad_acquire::recording::RecordingSet;
-use omniad_acquire::residuals::frame_residuals;
-use omniad_acquire::truth::true_trajectories;
+use omniad_acquire::input::recording::RecordingSet;
+use omniad_acquire::fit::residuals::frame_residuals;
+use omniad_acquire::synth::truth::true_trajectories;
 use std::path::Path;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {

@@ -5,11 +5,11 @@
 //! final model and with the model fitted to the true states (and refits
 //! each reconstruction), and removes each take's speed scale:
 //! `cargo run --release -p omniad-acquire --example mixfit -- SET`.
-use omniad_acquire::forces::{ForceStats, Sample};
-use omniad_acquire::model::zero_model;
+use omniad_acquire::reconstruct::forces::{ForceStats, Sample};
+use omniad_acquire::fit::model::zero_model;
 use omniad_acquire::pipeline::{self, FitConfig, Silent};
-use omniad_acquire::recording::RecordingSet;
-use omniad_acquire::truth::{fitted_directions, force_error, read_coefficients, true_trajectories};
+use omniad_acquire::input::recording::RecordingSet;
+use omniad_acquire::synth::truth::{fitted_directions, force_error, read_coefficients, true_trajectories};
 use std::collections::HashMap;
 use std::path::Path;
 
@@ -80,12 +80,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         ("true-state alpha, final beta/D", &true_alpha),
     ] {
         let rec = pipeline::refine(&set, m, noise, &cfg.filter, &out.reconstruction, &Silent)?;
-        let mut total = omniad_acquire::truth::StateError::default();
+        let mut total = omniad_acquire::synth::truth::StateError::default();
         for (take, s) in set.takes.iter().zip(&rec) {
-            let t = omniad_acquire::truth::read_states(
+            let t = omniad_acquire::synth::truth::read_states(
                 &dir.join("truth").join(format!("{}.csv", take.name)),
             )?;
-            total.add(&omniad_acquire::truth::state_error(s, &t));
+            total.add(&omniad_acquire::synth::truth::state_error(s, &t));
         }
         let mut st = ForceStats::default();
         let frames = pipeline::samples(&set, &rec, &mut st);

@@ -3,11 +3,11 @@
 //! `truth/coefficients.csv`:
 //! `cargo run --release -p omniad-acquire --example truthfit -- SET [smoothing]`.
 
-use omniad_acquire::forces::ForceStats;
-use omniad_acquire::model::zero_model;
+use omniad_acquire::reconstruct::forces::ForceStats;
+use omniad_acquire::fit::model::zero_model;
 use omniad_acquire::pipeline::{self, FitConfig};
-use omniad_acquire::recording::RecordingSet;
-use omniad_acquire::truth::{
+use omniad_acquire::input::recording::RecordingSet;
+use omniad_acquire::synth::truth::{
     fitted_directions, force_error, read_coefficients, read_states, true_trajectories,
 };
 use std::path::Path;
@@ -54,10 +54,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             bias_time: first.bias_time,
         };
         let rec = pipeline::reconstruct(&set, &model, noise, &cfg.filter, &pipeline::Silent)?;
-        let mut total = omniad_acquire::truth::StateError::default();
+        let mut total = omniad_acquire::synth::truth::StateError::default();
         for (take, s) in set.takes.iter().zip(&rec) {
             let truth = read_states(&dir.join("truth").join(format!("{}.csv", take.name)))?;
-            total.add(&omniad_acquire::truth::state_error(s, &truth));
+            total.add(&omniad_acquire::synth::truth::state_error(s, &truth));
         }
         let mut st = ForceStats::default();
         let rec_frames = pipeline::samples(&set, &rec, &mut st);

@@ -1,17 +1,17 @@
 //! The acquisition pipeline with iterative refinement (§6): reconstruct
 //! every take with the current model, reconstruct forces, fit, repeat.
 
-use crate::coverage;
+use crate::fit::coverage;
 use crate::error::{Error, Result};
-use crate::filter::{Filter, FilterConfig, FilterStats, Smoothed};
-use crate::fit_extensions::ExtensionTest;
-use crate::fit_lsq::{FitContext, FitSmoothing, LsqConfig};
-use crate::forces::{self, ForceStats, Sample};
-use crate::model::{with_raw, zero_model};
-use crate::process::Process;
-use crate::recording::RecordingSet;
-use crate::residuals::{frame_residuals, rms_dimensional, summary};
-use crate::tracks::Observation;
+use crate::reconstruct::filter::{Filter, FilterConfig, FilterStats, Smoothed};
+use crate::fit::extensions::ExtensionTest;
+use crate::fit::lsq::{FitContext, FitSmoothing, LsqConfig};
+use crate::reconstruct::forces::{self, ForceStats, Sample};
+use crate::fit::model::{with_raw, zero_model};
+use crate::reconstruct::process::Process;
+use crate::input::recording::RecordingSet;
+use crate::fit::residuals::{frame_residuals, rms_dimensional, summary};
+use crate::input::tracks::Observation;
 use nalgebra::Vector3;
 use omniad_core::{Coefficients, Environment, RigidBody, State};
 use std::time::Instant;
@@ -205,7 +205,7 @@ pub fn initial_noise(set: &RecordingSet) -> ProcessNoise {
 }
 
 fn initial_state(
-    epochs: &[crate::tracks::Epoch],
+    epochs: &[crate::input::tracks::Epoch],
     guess: Option<(Vector3<f64>, nalgebra::UnitQuaternion<f64>)>,
 ) -> Result<State<f64>> {
     if let Some((p, q)) = guess {
@@ -235,7 +235,7 @@ fn initial_state(
 }
 
 /// The rough initial state of a take, errors naming it.
-fn take_start(take: &crate::recording::Take) -> Result<State<f64>> {
+fn take_start(take: &crate::input::recording::Take) -> Result<State<f64>> {
     initial_state(&take.epochs, take.initial)
         .map_err(|e| Error::Data(format!("take {}: {e}", take.name)))
 }
@@ -407,7 +407,7 @@ pub fn fit_samples_tested(
     };
     let degree = usize::from(cfg.degree);
     let raw = match cfg.method {
-        Method::Lsq => crate::fit_lsq::fit(
+        Method::Lsq => crate::fit::lsq::fit(
             samples,
             &ctx,
             &LsqConfig {
@@ -415,7 +415,7 @@ pub fn fit_samples_tested(
                 ..cfg.lsq.clone()
             },
         ),
-        Method::Paper => crate::fit_paper::fit(samples, &ctx, degree),
+        Method::Paper => crate::fit::paper::fit(samples, &ctx, degree),
     };
     let details = FitDetails {
         extension_test: raw.extension_test,
@@ -745,7 +745,7 @@ fn fill_provenance(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::recording::TakeKind;
+    use crate::input::recording::TakeKind;
     use crate::synth::{truth_model, ObjectSpec, SynthObject};
     use nalgebra::Matrix3;
 
@@ -875,7 +875,7 @@ mod tests {
         for k in 0..3 {
             // The body velocity's covariance is about the current state,
             // not the first run's.
-            let expected = crate::filter::body_velocity_cov(
+            let expected = crate::reconstruct::filter::body_velocity_cov(
                 &current.states[k],
                 &first.attitude_velocity_cov[k],
             );

@@ -18,12 +18,12 @@
 //! (numbers fitted to noise would only add noise). Kept terms are then
 //! fitted jointly with alpha.
 
-use crate::fit_cv::Normals;
-use crate::fit_lsq::{
+use crate::fit::select::Normals;
+use crate::fit::lsq::{
     enforce_no_thrust, fit_force_smoothed, force_frames, force_row, force_weights, normals_with,
     regularise, sh_and_basis, FitContext, ForceRow, LsqConfig, Smoothing,
 };
-use crate::forces::Sample;
+use crate::reconstruct::forces::Sample;
 use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
 use omniad_core::gravity_coupling::GravityCoupling;
 use omniad_core::sh::coeff_count;

@@ -1,10 +1,10 @@
 //! Comparison with a synthetic set's `truth/` (never used by the fitter):
 //! state errors of a reconstruction and the coefficient error of a model.
 
-use crate::coverage::count_within;
+use crate::fit::coverage::count_within;
 use crate::error::{Error, Result};
-use crate::filter::Smoothed;
-use crate::tracks::{number, rows};
+use crate::reconstruct::filter::Smoothed;
+use crate::input::tracks::{number, rows};
 use nalgebra::{UnitQuaternion, Vector3};
 use omniad_core::Coefficients;
 use std::path::Path;
@@ -33,7 +33,7 @@ pub fn read_states(path: &Path) -> Result<Vec<[f64; 14]>> {
 /// diagnostics that fit from true states.
 pub fn true_trajectories(
     dir: &Path,
-    set: &crate::recording::RecordingSet,
+    set: &crate::input::recording::RecordingSet,
 ) -> Result<Vec<Smoothed>> {
     set.takes
         .iter()
@@ -56,7 +56,7 @@ pub fn true_trajectories(
                 cuts: Vec::new(),
                 velocity_difference_cov: Vec::new(),
                 attitude_velocity_cov: Vec::new(),
-                stats: crate::filter::FilterStats::default(),
+                stats: crate::reconstruct::filter::FilterStats::default(),
             })
         })
         .collect()
@@ -128,7 +128,7 @@ pub fn read_coefficients(path: &Path) -> Result<Vec<[Vector3<f64>; 3]>> {
 
 /// The body-frame air directions of the frames that entered the force fit,
 /// for [`force_error`]'s coverage count.
-pub fn fitted_directions(samples: &[crate::forces::Sample]) -> Vec<Vector3<f64>> {
+pub fn fitted_directions(samples: &[crate::reconstruct::forces::Sample]) -> Vec<Vector3<f64>> {
     samples
         .iter()
         .filter(|s| s.use_force && s.velocity.norm() > 0.0)

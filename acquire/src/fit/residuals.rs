@@ -1,7 +1,7 @@
 //! Per-frame residuals of a model against reconstructed frames: the public
 //! API for residual analysis, and the per-iteration summary of §6.
 
-use crate::forces::Sample;
+use crate::reconstruct::forces::Sample;
 use nalgebra::Vector3;
 use omniad_core::Coefficients;
 

@@ -1,9 +1,9 @@
 //! Writing a synthetic recording set (see [`crate::synth`]) in the
 //! recording format, with `truth/`.
 
-use crate::camera::Camera;
+use crate::input::camera::Camera;
 use crate::error::{Error, Result};
-use crate::rng::Rng;
+use crate::synth::rng::Rng;
 use crate::synth::{random_start, simulate, truth_model, ObjectSpec, SynthConfig, SynthForces};
 use nalgebra::{Matrix3, UnitQuaternion, Vector2, Vector3};
 use omniad_core::rigid_body::AirForces;

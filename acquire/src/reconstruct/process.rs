@@ -3,7 +3,7 @@
 //! [`FilterState`], its Jacobian in error-state coordinates, and the
 //! process noise.
 
-use crate::state::{boxminus, boxplus, Cov, Delta, FilterState, N};
+use crate::reconstruct::state::{boxminus, boxplus, Cov, Delta, FilterState, N};
 use nalgebra::{Matrix3, SMatrix, Vector3};
 use omniad_core::integrate::rk4_step;
 use omniad_core::rigid_body::Forces;
@@ -139,7 +139,7 @@ impl Process<'_> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::recording::Object;
+    use crate::input::recording::Object;
     use nalgebra::UnitQuaternion;
 
     fn process(model: &Coefficients<f64>, bias_time: f64) -> Process<'_> {
@@ -165,7 +165,7 @@ mod tests {
             pole: Vector3::z(),
             markers: Vec::new(),
         };
-        let model = crate::model::zero_model(&object, 2).expect("model");
+        let model = crate::fit::model::zero_model(&object, 2).expect("model");
         let (dt, tau) = (0.01, 0.5);
         let walk = process(&model, f64::INFINITY);
         let gm = process(&model, tau);

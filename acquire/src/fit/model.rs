@@ -2,8 +2,8 @@
 //! of the first refinement iteration (§6: `A_0 = 0, B_0 = 0`).
 
 use crate::error::{Error, Result};
-use crate::fit_lsq::RawModel;
-use crate::recording::Object;
+use crate::fit::lsq::RawModel;
+use crate::input::recording::Object;
 use omniad_core::coefficients::MassProperties;
 use omniad_core::Coefficients;
 
@@ -50,7 +50,7 @@ pub fn with_raw(base: &Coefficients<f64>, raw: &RawModel) -> Result<Coefficients
             m.set_beta(i, k, *v).map_err(model_error)?;
         }
     }
-    m.set_damping(&crate::damping::matrix(&raw.damping))
+    m.set_damping(&crate::fit::damping::matrix(&raw.damping))
         .map_err(model_error)?;
     m.set_spin_coupling(raw.spin_coupling)
         .map_err(model_error)?;

@@ -2,7 +2,7 @@
 //! covariance of the velocity differences that eqs. (9)-(10) use.
 
 use super::Step;
-use crate::state::{boxminus, boxplus, Cov, FilterState};
+use crate::reconstruct::state::{boxminus, boxplus, Cov, FilterState};
 use nalgebra::{Matrix3, Matrix6};
 
 /// Posterior covariances of a smoothed take that the force fit needs, per
@@ -76,7 +76,7 @@ pub fn body_velocity_cov(x: &omniad_core::State<f64>, block: &Matrix6<f64>) -> M
     let v = r.transpose() * x.velocity;
     let mut a = nalgebra::SMatrix::<f64, 3, 6>::zeros();
     a.fixed_view_mut::<3, 3>(0, 0)
-        .copy_from(&crate::measurement::skew(&v));
+        .copy_from(&crate::reconstruct::measurement::skew(&v));
     a.fixed_view_mut::<3, 3>(0, 3).copy_from(&r.transpose());
     let c = a * block * a.transpose();
     0.5 * (c + c.transpose())
@@ -115,7 +115,7 @@ mod tests {
 
     #[test]
     fn body_velocity_cov_matches_finite_differences() {
-        use crate::state::{boxplus, Delta};
+        use crate::reconstruct::state::{boxplus, Delta};
         let x = FilterState::new(omniad_core::State {
             position: nalgebra::Vector3::new(0.1, -0.2, 3.0),
             orientation: nalgebra::UnitQuaternion::from_euler_angles(0.4, -0.3, 1.1),

@@ -7,9 +7,13 @@
 //! `buoyancy` (displaced air, `SCALE` x ρ V g up) and `magnus`
 //! (`SCALE` x ½ρ L³ Ω × V, body frame).
 
+pub mod rng;
+pub mod truth;
+pub mod write;
+
 use crate::error::{Error, Result};
 use crate::panel::PanelModel;
-use crate::rng::Rng;
+use crate::synth::rng::Rng;
 use nalgebra::{Matrix3, UnitQuaternion, Vector3};
 use omniad_core::rigid_body::{AirForces, Forces};
 use omniad_core::{Coefficients, Environment, RigidBody, State, Wrench};

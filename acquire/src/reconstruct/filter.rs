@@ -1,6 +1,6 @@
 //! Motion reconstruction (§5): an iterated extended Kalman filter with the
 //! OmniAD model as process model ([`Process`]) and a Rauch-Tung-Striebel
-//! smoother, in error-state form ([`crate::state`]).
+//! smoother, in error-state form ([`crate::reconstruct::state`]).
 //!
 //! Robustness: frames without observations are predicted only; a marker
 //! whose innovation fails a chi-square gate is ignored and counted; when
@@ -17,12 +17,12 @@
 //! part, and the smoother does not carry the jump back (see
 //! `Filter::mirror_test`; counted in [`FilterStats::mirror_switches`]).
 
-use crate::camera::Camera;
-use crate::measurement::{marker_pixel, pose_residual};
-use crate::process::Process;
-use crate::recording::Object;
-use crate::state::{boxminus, boxplus, Cov, Delta, FilterState};
-use crate::tracks::{Epoch, MarkerSighting, Observation};
+use crate::input::camera::Camera;
+use crate::reconstruct::measurement::{marker_pixel, pose_residual};
+use crate::reconstruct::process::Process;
+use crate::input::recording::Object;
+use crate::reconstruct::state::{boxminus, boxplus, Cov, Delta, FilterState};
+use crate::input::tracks::{Epoch, MarkerSighting, Observation};
 use nalgebra::{Matrix3, Matrix6, SMatrix, Vector3};
 use omniad_core::State;
 
@@ -445,15 +445,15 @@ impl Filter<'_> {
                 continue;
             }
             let n = 2 * rows.len();
-            let mut h = nalgebra::DMatrix::<f64>::zeros(n, crate::state::N);
+            let mut h = nalgebra::DMatrix::<f64>::zeros(n, crate::reconstruct::state::N);
             let mut nu = nalgebra::DVector::<f64>::zeros(n);
             for (i, (d, hi)) in rows.iter().enumerate() {
-                h.view_mut((2 * i, 0), (2, crate::state::N)).copy_from(hi);
+                h.view_mut((2 * i, 0), (2, crate::reconstruct::state::N)).copy_from(hi);
                 nu.rows_mut(2 * i, 2).copy_from(d);
             }
             let p = nalgebra::DMatrix::from_column_slice(
-                crate::state::N,
-                crate::state::N,
+                crate::reconstruct::state::N,
+                crate::reconstruct::state::N,
                 step.predicted_cov.as_slice(),
             );
             let cov = &h * p * h.transpose() + nalgebra::DMatrix::identity(n, n) * r;
@@ -606,7 +606,7 @@ impl Filter<'_> {
                 c.pose_angle_noise.powi(2)
             }
         }));
-        let mut h = SMatrix::<f64, 6, { crate::state::N }>::zeros();
+        let mut h = SMatrix::<f64, 6, { crate::reconstruct::state::N }>::zeros();
         h.fixed_view_mut::<6, 6>(0, 0).fill_with_identity();
         let nu = pose_residual(&x.body, y, q);
         let s = h * p * h.transpose() + r;

@@ -3,11 +3,11 @@
 //! about the pole, SH coefficients by the convolution eqs. (11), (13) as a
 //! quadrature over the grid, D by least squares, eq. (12), on K2 (spins).
 
-use crate::coverage::{cell_centre, pole_frame};
-use crate::damping::{matrix, omega_map, positive_definite};
-use crate::fit_lsq::{sh_and_basis, FitContext, RawModel};
-use crate::forces::Sample;
-use crate::recording::TakeKind;
+use crate::fit::coverage::{cell_centre, pole_frame};
+use crate::fit::damping::{matrix, omega_map, positive_definite};
+use crate::fit::lsq::{sh_and_basis, FitContext, RawModel};
+use crate::reconstruct::forces::Sample;
+use crate::input::recording::TakeKind;
 use nalgebra::{SMatrix, Vector3};
 use omniad_core::coefficients::COVERAGE_CELLS;
 use omniad_core::sh::coeff_count;
@@ -158,7 +158,7 @@ pub fn fit(samples: &[Sample], ctx: &FitContext, degree: usize) -> RawModel {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::rng::Rng;
+    use crate::synth::rng::Rng;
     use crate::synth::{truth_model, ObjectSpec, SynthObject};
 
     #[test]
@@ -200,7 +200,7 @@ mod tests {
                 use_torque: true,
             });
         }
-        let model = crate::model::with_raw(&truth, &fit(&frames, &ctx, 4)).expect("model");
+        let model = crate::fit::model::with_raw(&truth, &fit(&frames, &ctx, 4)).expect("model");
         let (mut num, mut den) = (0.0, 0.0);
         for e in crate::panel::fibonacci_sphere(200) {
             let (a, b) = (

@@ -2,8 +2,8 @@
 //! Jacobians in error-state coordinates: marker pixels through the camera,
 //! and 3-D poses.
 
-use crate::camera::Camera;
-use crate::state::N;
+use crate::input::camera::Camera;
+use crate::reconstruct::state::N;
 use nalgebra::{Matrix3, SMatrix, UnitQuaternion, Vector2, Vector3};
 use omniad_core::State;
 
@@ -48,12 +48,12 @@ pub fn pose_residual(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::state::{boxplus, Delta};
+    use crate::reconstruct::state::{boxplus, Delta};
 
     #[test]
     fn marker_jacobian_matches_finite_differences() {
-        let camera = crate::synth_write::standard_camera(0.7);
-        let s = crate::state::FilterState::new(State {
+        let camera = crate::synth::write::standard_camera(0.7);
+        let s = crate::reconstruct::state::FilterState::new(State {
             position: Vector3::new(0.2, -0.3, 4.0),
             orientation: UnitQuaternion::from_euler_angles(0.4, 1.1, -0.7),
             velocity: Vector3::new(1.0, 0.0, -2.0),

@@ -2,18 +2,21 @@
 //! camera, world and takes, as `docs/recording-format.md` specifies.
 //!
 //! [`RecordingSet::load`] reads the TOML and every take's track file
-//! ([`crate::tracks`]); every error names the file and the field or line.
+//! ([`crate::input::tracks`]); every error names the file and the field or line.
 
-use crate::camera::Camera;
+use crate::input::camera::{Camera, RawCamera};
 use crate::error::{Error, Result};
-use crate::tracks::{self, Epoch};
-use nalgebra::{Matrix3, Quaternion, Rotation3, UnitQuaternion, Vector3};
+use crate::input::object::{object, RawObject};
+use crate::input::tracks::{self, Epoch};
+use crate::input::validate::{finite, positive, unit_quaternion};
+use nalgebra::{UnitQuaternion, Vector3};
 use serde::Deserialize;
-use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 /// The only format this reader accepts.
 pub const FORMAT: &str = "omniad-recording/1";
+
+pub use crate::input::object::Object;
 
 /// The world the object moves in.
 #[derive(Clone, Debug, PartialEq)]
@@ -24,30 +27,6 @@ pub struct World {
     pub air_density: f64,
     /// Air viscosity μ, kg/(m s), if given.
     pub air_viscosity: Option<f64>,
-}
-
-/// The recorded object.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Object {
-    /// Name.
-    pub name: String,
-    /// Mass M, kg.
-    pub mass: f64,
-    /// Inertia about the centre of mass, body frame, kg m².
-    pub inertia: Matrix3<f64>,
-    /// Reference length L (bounding-box diagonal), m.
-    pub reference_length: f64,
-    /// Unit pole Z of the SH vector basis, body frame.
-    pub pole: Vector3<f64>,
-    /// Markers: name and body-frame position (m), in name order.
-    pub markers: Vec<(String, Vector3<f64>)>,
-}
-
-impl Object {
-    /// Index of a marker by name.
-    pub fn marker_index(&self, name: &str) -> Option<usize> {
-        self.markers.iter().position(|(n, _)| n == name)
-    }
 }
 
 /// What a take mainly excites (§5: the sets K1 and K2).
@@ -110,34 +89,6 @@ struct RawWorld {
 
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
-struct RawObject {
-    name: String,
-    mass: f64,
-    inertia: [[f64; 3]; 3],
-    reference_length: f64,
-    pole: [f64; 3],
-    #[serde(default)]
-    markers: BTreeMap<String, [f64; 3]>,
-}
-
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-pub(crate) struct RawCamera {
-    pub width: u32,
-    pub height: u32,
-    pub fps: f64,
-    pub fx: f64,
-    pub fy: f64,
-    pub cx: f64,
-    pub cy: f64,
-    pub distortion: [f64; 5],
-    pub rotation: [[f64; 3]; 3],
-    pub translation: [f64; 3],
-    pub pixel_noise: Option<f64>,
-}
-
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
 struct RawTake {
     name: String,
     kind: String,
@@ -189,28 +140,6 @@ fn toml_message(e: &toml::de::Error) -> String {
     e.to_string().trim_end().replace('\n', " ")
 }
 
-/// Checks that every number of a field is finite.
-pub(crate) fn finite(path: &Path, field: &str, values: &[f64]) -> Result<()> {
-    if values.iter().all(|v| v.is_finite()) {
-        Ok(())
-    } else {
-        Err(Error::at_field(path, field, "must be finite"))
-    }
-}
-
-/// Checks that a field is finite and positive.
-pub(crate) fn positive(path: &Path, field: &str, v: f64) -> Result<()> {
-    if v.is_finite() && v > 0.0 {
-        Ok(())
-    } else {
-        Err(Error::at_field(
-            path,
-            field,
-            format!("must be positive and finite, found {v}"),
-        ))
-    }
-}
-
 fn world(path: &Path, w: &RawWorld) -> Result<World> {
     finite(path, "world.gravity", &w.gravity)?;
     positive(path, "world.air_density", w.air_density)?;
@@ -224,40 +153,6 @@ fn world(path: &Path, w: &RawWorld) -> Result<World> {
     })
 }
 
-fn object(path: &Path, o: RawObject) -> Result<Object> {
-    positive(path, "object.mass", o.mass)?;
-    positive(path, "object.reference_length", o.reference_length)?;
-    let flat: Vec<f64> = o.inertia.iter().flatten().copied().collect();
-    finite(path, "object.inertia", &flat)?;
-    let inertia = Matrix3::from_row_slice(&flat);
-    if (inertia - inertia.transpose()).norm() > 1e-9 * inertia.norm()
-        || inertia.cholesky().is_none()
-    {
-        return Err(Error::at_field(
-            path,
-            "object.inertia",
-            "must be symmetric positive definite",
-        ));
-    }
-    finite(path, "object.pole", &o.pole)?;
-    let pole = Vector3::from(o.pole);
-    if pole.norm() == 0.0 {
-        return Err(Error::at_field(path, "object.pole", "must be non-zero"));
-    }
-    let mut markers = Vec::with_capacity(o.markers.len());
-    for (name, p) in o.markers {
-        finite(path, &format!("object.markers.{name}"), &p)?;
-        markers.push((name, Vector3::from(p)));
-    }
-    Ok(Object {
-        name: o.name,
-        mass: o.mass,
-        inertia,
-        reference_length: o.reference_length,
-        pole: pole.normalize(),
-        markers,
-    })
-}
 
 fn take(
     dir: &Path,
@@ -336,24 +231,4 @@ fn initial_guess(
             "give both initial_position and initial_orientation",
         )),
     }
-}
-
-/// `[w, x, y, z]` normalised, or `None` when zero or non-finite.
-pub fn unit_quaternion(q: &[f64; 4]) -> Option<UnitQuaternion<f64>> {
-    let raw = Quaternion::new(q[0], q[1], q[2], q[3]);
-    let n = raw.norm();
-    (n.is_finite() && n > 0.0).then(|| UnitQuaternion::new_unchecked(raw / n))
-}
-
-/// A rotation matrix (rows) as a unit quaternion, if it is orthonormal with
-/// determinant +1 to within 1e-3.
-pub fn rotation_from_rows(rows: &[[f64; 3]; 3]) -> Option<UnitQuaternion<f64>> {
-    let m = Matrix3::from_row_slice(&rows.iter().flatten().copied().collect::<Vec<_>>());
-    let err = (m * m.transpose() - Matrix3::identity()).norm();
-    if err.is_nan() || err >= 1e-3 || m.determinant() < 0.0 {
-        return None;
-    }
-    Some(UnitQuaternion::from_rotation_matrix(
-        &Rotation3::from_matrix(&m),
-    ))
 }

@@ -3,7 +3,8 @@
 //! Jacobian of the projection (the observation function h of §5).
 
 use crate::error::{Error, Result};
-use crate::recording::{finite, positive, rotation_from_rows, RawCamera};
+use crate::input::validate::{finite, positive, rotation_from_rows};
+use serde::Deserialize;
 use nalgebra::{Matrix2, Matrix2x3, Matrix3, Vector2, Vector3};
 use std::path::Path;
 
@@ -115,6 +116,23 @@ impl Camera {
             Matrix2::new(dxd_dx, dxd_dy, dyd_dx, dyd_dy),
         )
     }
+}
+
+/// The `[camera]` table of `recording.toml` as written.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawCamera {
+    pub width: u32,
+    pub height: u32,
+    pub fps: f64,
+    pub fx: f64,
+    pub fy: f64,
+    pub cx: f64,
+    pub cy: f64,
+    pub distortion: [f64; 5],
+    pub rotation: [[f64; 3]; 3],
+    pub translation: [f64; 3],
+    pub pixel_noise: Option<f64>,
 }
 
 #[cfg(test)]

@@ -1,5 +1,5 @@
 //! Importing marker tracks exported by common trackers into the recording
-//! format's `frame,marker,u,v` ([`crate::tracks`]).
+//! format's `frame,marker,u,v` ([`crate::input::tracks`]).
 //!
 //! * **DLTdv** (`*xypts.csv`): header `pt1_cam1_X,pt1_cam1_Y,pt2_cam1_X,…`,
 //!   one row per video frame, `NaN` (or empty) where a point is not
@@ -22,7 +22,7 @@
 //! first data row.
 
 use crate::error::{Error, Result};
-use crate::tracks::number;
+use crate::input::tracks::number;
 use std::fmt::Write as _;
 use std::path::Path;
 

@@ -10,13 +10,13 @@
 //! one joint problem in (β, D). Smoothness: Tikhonov on a Sobolev-type norm
 //! `Σ l(l+1) (l(l+1)/(N(N+1)))^(p-1) c_lm²` scaled by the data, its weight
 //! and order `p` chosen for each of the two problems by leave-one-take-out
-//! cross-validation ([`crate::fit_cv`]). D is projected onto positive definite
+//! cross-validation ([`crate::fit::select`]). D is projected onto positive definite
 //! matrices and β refitted; `C_F(E)·E < 0` (no thrust, §5) is enforced on a
 //! dense direction grid by penalty rows.
 
-use crate::damping::{matrix, omega_map, positive_definite};
-use crate::fit_cv::Normals;
-use crate::forces::Sample;
+use crate::fit::damping::{matrix, omega_map, positive_definite};
+use crate::fit::select::Normals;
+use crate::reconstruct::forces::Sample;
 use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
 use omniad_core::basis::vector_basis;
 use omniad_core::sh::{coeff_count, evaluate, MAX_COEFFS};
@@ -30,7 +30,7 @@ pub struct LsqConfig {
     /// Smoothing weight relative to the mean data weight per coefficient
     /// (dimensionless; default 1e-3). The force and torque fits choose
     /// their own by cross-validation when `cross_validate` is set and there
-    /// are enough takes (see [`crate::fit_cv`]).
+    /// are enough takes (see [`crate::fit::select`]).
     pub smoothing: f64,
     /// Order `p` of the force fit's smoothness penalty: SH degree `l` is
     /// penalised by `l(l+1) (l(l+1)/(N(N+1)))^(p-1)`, a Sobolev-type norm
@@ -48,7 +48,7 @@ pub struct LsqConfig {
     pub cross_validate: bool,
     /// Fit the model extensions (spin coupling, gravity coupling) and
     /// keep those that predict held-out takes better
-    /// ([`crate::fit_extensions`]; default true).
+    /// ([`crate::fit::extensions`]; default true).
     pub extensions: bool,
     /// Smallest allowed eigenvalue of D relative to its largest (default 1e-3).
     pub damping_floor: f64,
@@ -84,7 +84,7 @@ pub struct RawModel {
     /// The gravity-coupling extension, when fitted and kept.
     pub gravity_coupling: Option<omniad_core::gravity_coupling::GravityCoupling<f64>>,
     /// The held-out test that decided on them (when it was run).
-    pub extension_test: Option<crate::fit_extensions::ExtensionTest>,
+    pub extension_test: Option<crate::fit::extensions::ExtensionTest>,
     /// The smoothness penalties of the force and torque fits (least
     /// squares only).
     pub smoothing: Option<FitSmoothing>,
@@ -337,7 +337,7 @@ pub(crate) fn normals_with(
 }
 
 /// The force fit's smoothness penalty: `cfg.smoothing` of order
-/// `cfg.smoothness_order`, or the cross-validated choice ([`crate::fit_cv`])
+/// `cfg.smoothness_order`, or the cross-validated choice ([`crate::fit::select`])
 /// of weight (and order, when not given) when `cfg.cross_validate`.
 pub fn force_smoothing(samples: &[Sample], ctx: &FitContext, cfg: &LsqConfig) -> Smoothing {
     let (takes, total) = force_normals(samples, ctx, cfg.degree);
@@ -366,7 +366,7 @@ fn force_penalty(takes: &[Normals], total: &Normals, cfg: &LsqConfig) -> Smoothi
     cross_validated(takes, held_out, total, &orders, fallback, cfg.degree)
 }
 
-/// The penalty of [`crate::fit_cv::SMOOTHING_GRID`] x `orders` whose fits
+/// The penalty of [`crate::fit::select::SMOOTHING_GRID`] x `orders` whose fits
 /// without each take predict that take best, on unknowns whose first three
 /// blocks are SH coefficients.
 fn cross_validated(
@@ -381,12 +381,12 @@ fn cross_validated(
     let candidates: Vec<Smoothing> = orders
         .iter()
         .flat_map(|&order| {
-            crate::fit_cv::SMOOTHING_GRID
+            crate::fit::select::SMOOTHING_GRID
                 .iter()
                 .map(move |&weight| Smoothing { weight, order })
         })
         .collect();
-    crate::fit_cv::choose(takes, held_out, total, &candidates, fallback, |m, p| {
+    crate::fit::select::choose(takes, held_out, total, &candidates, fallback, |m, p| {
         regularise_scaled(m, 3, degree, p, scale);
     })
 }
@@ -421,7 +421,7 @@ pub(crate) fn enforce_no_thrust(
     mut atb: DVector<f64>,
     cfg: &LsqConfig,
 ) -> Vec<f64> {
-    let grid = crate::fit_paper::sphere_grid(64, 32);
+    let grid = crate::fit::paper::sphere_grid(64, 32);
     let dim = ata.nrows();
     let ys: Vec<DVector<f64>> = grid
         .iter()
@@ -489,7 +489,7 @@ fn torque_normals(samples: &[Sample], ctx: &FitContext, degree: usize) -> (Vec<N
 
 /// The torque fit's smoothness penalty on beta: `cfg.smoothing` of order
 /// 1 (the Dirichlet energy), or, when `cfg.cross_validate`, the weight and
-/// order of [`crate::fit_cv::SMOOTHING_GRID`] x [`SMOOTHNESS_ORDERS`] that
+/// order of [`crate::fit::select::SMOOTHING_GRID`] x [`SMOOTHNESS_ORDERS`] that
 /// predicts held-out takes' torques best. (The torque model steers the
 /// reconstructed attitude, and through it the direction E every force
 /// frame is filed under: openbox-clean's C_F went from 7.74 % to 7.35 %
@@ -625,7 +625,7 @@ fn accumulate(ata: &mut DMatrix<f64>, atb: &mut DVector<f64>, n: usize, r: &Torq
 
 /// The full least-squares fit.
 pub fn fit(samples: &[Sample], ctx: &FitContext, cfg: &LsqConfig) -> RawModel {
-    let force = crate::fit_extensions::fit_force_and_extensions(samples, ctx, cfg);
+    let force = crate::fit::extensions::fit_force_and_extensions(samples, ctx, cfg);
     let (beta, damping, torque) = fit_torque(samples, ctx, cfg);
     RawModel {
         alpha: force.alpha,
@@ -644,8 +644,8 @@ pub fn fit(samples: &[Sample], ctx: &FitContext, cfg: &LsqConfig) -> RawModel {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::recording::TakeKind;
-    use crate::rng::Rng;
+    use crate::input::recording::TakeKind;
+    use crate::synth::rng::Rng;
     use crate::synth::{truth_model, ObjectSpec, SynthObject};
     use omniad_core::gravity_coupling::GravityCoupling;
 
@@ -698,7 +698,7 @@ mod tests {
                 ..LsqConfig::default()
             },
         );
-        let model = crate::model::with_raw(&truth, &raw).expect("model");
+        let model = crate::fit::model::with_raw(&truth, &raw).expect("model");
         let (mut num, mut den) = (0.0, 0.0);
         for e in crate::panel::fibonacci_sphere(200) {
             let (a, b) = (

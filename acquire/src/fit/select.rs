@@ -1,7 +1,7 @@
 //! Choosing the force fit's smoothing weight by leave-one-take-out
 //! cross-validation.
 //!
-//! The Tikhonov weight of [`crate::fit_lsq`] trades the reconstructed
+//! The Tikhonov weight of [`crate::fit::lsq`] trades the reconstructed
 //! forces' noise against the SH truncation: from exact states less
 //! smoothing is better, from noisy reconstructions (early refinement
 //! iterations, §6; noisy tracks) more. A take's force errors are strongly

@@ -6,7 +6,7 @@
 //! to have no rows. Errors name the file, the 1-based line and the column.
 
 use crate::error::{Error, Result};
-use crate::recording::Object;
+use crate::input::object::Object;
 use nalgebra::{UnitQuaternion, Vector2, Vector3};
 use std::path::Path;
 
@@ -177,7 +177,7 @@ pub fn read_poses(path: &Path) -> Result<Vec<Epoch>> {
         for ((slot, s), col) in v.iter_mut().zip(&f).zip(cols) {
             *slot = number(path, line, col, s)?;
         }
-        let q = crate::recording::unit_quaternion(&[v[4], v[5], v[6], v[7]])
+        let q = crate::input::validate::unit_quaternion(&[v[4], v[5], v[6], v[7]])
             .ok_or_else(|| Error::at_line(path, line, Some("qw"), "zero quaternion"))?;
         if epochs.last().is_some_and(|e| e.t >= v[0]) {
             return Err(Error::at_line(

@@ -22,9 +22,9 @@ fn object() -> Object {
 
 #[test]
 fn mirror_pose_fits_the_markers_and_keeps_the_centroid_motion() {
-    let camera = crate::synth_write::standard_camera(0.7);
+    let camera = crate::synth::write::standard_camera(0.7);
     let object = object();
-    let model = crate::model::zero_model(&object, 2).expect("model");
+    let model = crate::fit::model::zero_model(&object, 2).expect("model");
     let filter = Filter {
         process: Process {
             body: RigidBody::new(object.mass, object.inertia).expect("body"),
