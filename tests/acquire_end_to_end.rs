@@ -4,7 +4,7 @@
 //! the same loop for the spin-coupling extension.
 
 use nalgebra::{Quaternion, UnitQuaternion, Vector3};
-use omniad_acquire::truth::{force_error, read_coefficients, read_states};
+use omniad_acquire::synth::truth::{force_error, read_coefficients, read_states};
 use std::path::Path;
 use std::process::Command;
 

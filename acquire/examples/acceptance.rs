@@ -8,7 +8,8 @@
 //! `PERTAKE` (per-take errors of the last iteration too), `DUMP=FILE` (the
 //! true and fitted C_F at every truth grid direction, as CSV).
 
-use omniad_acquire::pipeline::{self, FitConfig, Method, Silent};
+use omniad_acquire::pipeline::{self, FitConfig, Method};
+use omniad_acquire::reconstruct::run::Silent;
 use omniad_acquire::input::recording::RecordingSet;
 use omniad_acquire::synth::truth::{
     fitted_directions, force_error, read_coefficients, read_states, state_error, StateError,
@@ -80,7 +81,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         );
     }
     let noise = pipeline::final_noise(&set, &out, &cfg)?;
-    let rec = pipeline::refine(
+    let rec = omniad_acquire::reconstruct::run::refine(
         &set,
         &out.model,
         noise,
@@ -137,11 +138,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     };
     println!(
         "last fit's smoothing {:?}",
-        omniad_acquire::fit::lsq::force_smoothing(&out.samples, &ctx, &cfg.lsq)
+        omniad_acquire::fit::force::force_smoothing(&out.samples, &ctx, &cfg.lsq)
     );
     println!(
         "last torque fit's smoothing {:?}",
-        omniad_acquire::fit::lsq::torque_smoothing(&out.samples, &ctx, &cfg.lsq)
+        omniad_acquire::fit::torque::torque_smoothing(&out.samples, &ctx, &cfg.lsq)
     );
     println!("D = {:?}", out.model.damping());
     println!("fit wall time {fit_time:.2} s");

@@ -9,7 +9,8 @@
 
 use nalgebra::{Quaternion, UnitQuaternion, Vector3};
 use omniad_acquire::reconstruct::filter::FilterConfig;
-use omniad_acquire::pipeline::{self, Silent};
+use omniad_acquire::pipeline;
+use omniad_acquire::reconstruct::run::Silent;
 use omniad_acquire::input::recording::RecordingSet;
 use omniad_acquire::synth::{truth_model, ObjectSpec, SynthObject};
 use omniad_acquire::synth::truth::read_states;
@@ -28,7 +29,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         _ => omniad_acquire::fit::model::zero_model(&set.object, 8)?,
     };
     let scale: f64 = args.get(3).and_then(|s| s.parse().ok()).unwrap_or(1.0);
-    let mut noise = pipeline::initial_noise(&set);
+    let mut noise = omniad_acquire::reconstruct::noise::initial_noise(&set);
     noise.force_walk *= scale;
     noise.torque_walk *= scale;
     let acc: f64 = args.get(4).and_then(|s| s.parse().ok()).unwrap_or(1.0);
@@ -63,7 +64,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         noise.torque_walk *= scale;
         noise.accel *= acc;
         noise.angular_accel *= acc;
-        pipeline::refine(
+        omniad_acquire::reconstruct::run::refine(
             &set,
             &out.model,
             noise,
@@ -72,7 +73,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             &Silent,
         )?
     } else if (bias - 1.0).abs() < 1e-12 {
-        pipeline::reconstruct(&set, &model, noise, &fc, &Silent)?
+        omniad_acquire::reconstruct::run::reconstruct(&set, &model, noise, &fc, &Silent)?
     } else {
         let body = omniad_core::RigidBody::new(set.object.mass, set.object.inertia)
             .map_err(|e| format!("{e}"))?;
@@ -86,7 +87,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let filter = omniad_acquire::reconstruct::filter::Filter {
             process: omniad_acquire::reconstruct::process::Process {
                 body,
-                environment: pipeline::environment(&set),
+                environment: omniad_acquire::reconstruct::run::environment(&set),
                 model: &model,
                 accel_noise: noise.accel,
                 angular_accel_noise: noise.angular_accel,

@@ -8,7 +8,8 @@
 use nalgebra::Vector3;
 use omniad_acquire::reconstruct::forces::ForceStats;
 use omniad_acquire::fit::model::zero_model;
-use omniad_acquire::pipeline::{self, FitConfig, Silent};
+use omniad_acquire::pipeline::{self, FitConfig};
+use omniad_acquire::reconstruct::run::Silent;
 use omniad_acquire::input::recording::RecordingSet;
 use omniad_acquire::synth::rng::Rng;
 use omniad_acquire::synth::truth::{fitted_directions, force_error, read_coefficients, true_trajectories};
@@ -23,7 +24,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let out = pipeline::fit(&set, &cfg, &Silent)?;
     let smoothed = true_trajectories(dir, &set)?;
     let mut stats = ForceStats::default();
-    let true_frames = pipeline::samples(&set, &smoothed, &mut stats);
+    let true_frames = omniad_acquire::reconstruct::run::samples(&set, &smoothed, &mut stats);
     let by_key: HashMap<(usize, usize), usize> = true_frames
         .iter()
         .enumerate()

@@ -24,7 +24,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut cfg = FitConfig::default();
     cfg.lsq.extensions = false;
     let mut stats = ForceStats::default();
-    let frames = pipeline::samples(&set, &smoothed, &mut stats);
+    let frames = omniad_acquire::reconstruct::run::samples(&set, &smoothed, &mut stats);
     let base = zero_model(&set.object, cfg.degree)?;
     let model = pipeline::fit_samples(&base, &frames, &set, &cfg)?;
     let res = frame_residuals(&model, &frames, set.world.air_density);

@@ -7,7 +7,8 @@
 //! `cargo run --release -p omniad-acquire --example mixfit -- SET`.
 use omniad_acquire::reconstruct::forces::{ForceStats, Sample};
 use omniad_acquire::fit::model::zero_model;
-use omniad_acquire::pipeline::{self, FitConfig, Silent};
+use omniad_acquire::pipeline::{self, FitConfig};
+use omniad_acquire::reconstruct::run::Silent;
 use omniad_acquire::input::recording::RecordingSet;
 use omniad_acquire::synth::truth::{fitted_directions, force_error, read_coefficients, true_trajectories};
 use std::collections::HashMap;
@@ -21,7 +22,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let out = pipeline::fit(&set, &cfg, &Silent)?;
     let truth_states = true_trajectories(dir, &set)?;
     let mut st = ForceStats::default();
-    let tframes = pipeline::samples(&set, &truth_states, &mut st);
+    let tframes = omniad_acquire::reconstruct::run::samples(&set, &truth_states, &mut st);
     let tmap = by_frame(&tframes);
     let truth = read_coefficients(&dir.join("truth/coefficients.csv"))?;
     let base = zero_model(&set.object, cfg.degree)?;
@@ -79,7 +80,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         ("final alpha, true-state beta/D", &final_alpha),
         ("true-state alpha, final beta/D", &true_alpha),
     ] {
-        let rec = pipeline::refine(&set, m, noise, &cfg.filter, &out.reconstruction, &Silent)?;
+        let rec = omniad_acquire::reconstruct::run::refine(&set, m, noise, &cfg.filter, &out.reconstruction, &Silent)?;
         let mut total = omniad_acquire::synth::truth::StateError::default();
         for (take, s) in set.takes.iter().zip(&rec) {
             let t = omniad_acquire::synth::truth::read_states(
@@ -88,7 +89,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             total.add(&omniad_acquire::synth::truth::state_error(s, &t));
         }
         let mut st = ForceStats::default();
-        let frames = pipeline::samples(&set, &rec, &mut st);
+        let frames = omniad_acquire::reconstruct::run::samples(&set, &rec, &mut st);
         let refit = pipeline::fit_samples(&base, &frames, &set, &cfg)?;
         let (e, _) = force_error(&refit, &truth, &dirs, 20, 15f64.to_radians());
         println!(

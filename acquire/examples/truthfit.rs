@@ -25,7 +25,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         cfg.filter.relinearise = r;
     }
     let mut stats = ForceStats::default();
-    let frames = pipeline::samples(&set, &smoothed, &mut stats);
+    let frames = omniad_acquire::reconstruct::run::samples(&set, &smoothed, &mut stats);
     let base = zero_model(&set.object, cfg.degree)?;
     let model = pipeline::fit_samples(&base, &frames, &set, &cfg)?;
     let truth = read_coefficients(&dir.join("truth/coefficients.csv"))?;
@@ -37,7 +37,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         err * 100.0
     );
     // Reconstruct with the truth-fitted model at several walk scales.
-    let first = pipeline::initial_noise(&set);
+    let first = omniad_acquire::reconstruct::noise::initial_noise(&set);
     for (ws, acc, ang) in [
         (0.1, 0.3, 1.0),
         (0.1, 0.1, 1.0),
@@ -46,21 +46,21 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         (0.01, 0.1, 1.0),
         (0.03, 1.0, 0.3),
     ] {
-        let noise = pipeline::ProcessNoise {
+        let noise = omniad_acquire::reconstruct::noise::ProcessNoise {
             force_walk: first.force_walk * ws,
             torque_walk: first.torque_walk * ws,
             accel: first.accel * acc,
             angular_accel: first.angular_accel * ang,
             bias_time: first.bias_time,
         };
-        let rec = pipeline::reconstruct(&set, &model, noise, &cfg.filter, &pipeline::Silent)?;
+        let rec = omniad_acquire::reconstruct::run::reconstruct(&set, &model, noise, &cfg.filter, &omniad_acquire::reconstruct::run::Silent)?;
         let mut total = omniad_acquire::synth::truth::StateError::default();
         for (take, s) in set.takes.iter().zip(&rec) {
             let truth = read_states(&dir.join("truth").join(format!("{}.csv", take.name)))?;
             total.add(&omniad_acquire::synth::truth::state_error(s, &truth));
         }
         let mut st = ForceStats::default();
-        let rec_frames = pipeline::samples(&set, &rec, &mut st);
+        let rec_frames = omniad_acquire::reconstruct::run::samples(&set, &rec, &mut st);
         let refit = pipeline::fit_samples(&base, &rec_frames, &set, &cfg)?;
         let (e2, _) = force_error(&refit, &truth, &dirs, 20, 15f64.to_radians());
         println!(

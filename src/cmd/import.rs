@@ -1,10 +1,10 @@
 //! `omniad import-tracks`: DLTdv / DeepLabCut marker tracks to the recording
-//! format's `frame,marker,u,v` (see `omniad_acquire::import` for the
+//! format's `frame,marker,u,v` (see `omniad_acquire::input::import` for the
 //! conventions).
 
 use anyhow::{Context, Result};
 use clap::{Args, ValueEnum};
-use omniad_acquire::import::{self, ImportOptions};
+use omniad_acquire::input::import::{self, ImportOptions};
 use std::path::PathBuf;
 
 /// Tracker export format.

@@ -3,7 +3,8 @@
 
 use anyhow::{Context, Result};
 use clap::Args;
-use omniad_acquire::pipeline::{self, FitConfig, Progress as _};
+use omniad_acquire::pipeline::{self, FitConfig};
+use omniad_acquire::reconstruct::run::Progress as _;
 use std::fmt::Write as _;
 use std::path::PathBuf;
 
@@ -37,7 +38,7 @@ pub fn run(a: &ReconstructArgs) -> Result<()> {
     let noise = pipeline::final_noise(&set, &outcome, &cfg).map_err(|e| anyhow::anyhow!("{e}"))?;
     bars.tick();
     bars.stage_final(set.takes.len());
-    let smoothed = pipeline::refine(
+    let smoothed = omniad_acquire::reconstruct::run::refine(
         &set,
         &outcome.model,
         noise,

@@ -66,6 +66,21 @@ pub fn count_within(directions: &[Vector3<f64>], e: &Vector3<f64>, angle: f64) -
     directions.iter().filter(|d| d.dot(e) >= c).count()
 }
 
+/// Unit directions and solid angles (sr) of an `nlon x nlat` grid about body z.
+pub fn sphere_grid(nlon: usize, nlat: usize) -> Vec<(Vector3<f64>, f64)> {
+    let dt = PI / nlat as f64;
+    let dp = 2.0 * PI / nlon as f64;
+    let mut out = Vec::with_capacity(nlon * nlat);
+    for i in 0..nlon {
+        for j in 0..nlat {
+            let (t, p) = ((j as f64 + 0.5) * dt, (i as f64 + 0.5) * dp);
+            let e = Vector3::new(t.sin() * p.cos(), t.sin() * p.sin(), t.cos());
+            out.push((e, dp * ((t - 0.5 * dt).cos() - (t + 0.5 * dt).cos())));
+        }
+    }
+    out
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

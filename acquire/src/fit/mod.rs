@@ -1,10 +1,25 @@
 //! Fitting (§6): the coefficient model from reconstructed frames.
+//!
+//! Force, torque and every model extension supply rows to per-take normal
+//! equations ([`normals`]); one leave-one-take-out engine ([`select`])
+//! chooses the smoothing ([`smoothing`]) and the extensions
+//! ([`extensions`], whose terms are registered in [`effects`]); frames are
+//! weighted in [`weights`]. [`lsq`] is the default fit, [`paper`] the
+//! paper's method; [`model`] assembles the core coefficients.
 
+pub mod context;
 pub mod coverage;
-pub mod damping;
+pub(crate) mod damping;
+pub mod effects;
 pub mod extensions;
+pub mod force;
 pub mod lsq;
 pub mod model;
+pub(crate) mod normals;
 pub mod paper;
 pub mod residuals;
-pub mod select;
+pub(crate) mod select;
+pub mod smoothing;
+pub(crate) mod thrust;
+pub mod torque;
+pub mod weights;

@@ -2,10 +2,40 @@
 //! of the first refinement iteration (§6: `A_0 = 0, B_0 = 0`).
 
 use crate::error::{Error, Result};
-use crate::fit::lsq::RawModel;
+use crate::fit::smoothing::Smoothing;
+use omniad_core::spin_coupling::SpinCoupling;
 use crate::input::recording::Object;
 use omniad_core::coefficients::MassProperties;
 use omniad_core::Coefficients;
+
+/// The fitted numbers (body frame, non-dimensional).
+#[derive(Clone, Debug, PartialEq)]
+pub struct RawModel {
+    /// `alpha[i][k]`, i = basis component, k = SH index.
+    pub alpha: [Vec<f64>; 3],
+    /// `beta[i][k]`.
+    pub beta: [Vec<f64>; 3],
+    /// `[d11, d22, d33, d12, d13, d23]`.
+    pub damping: [f64; 6],
+    /// The spin-coupling extension, when fitted and kept.
+    pub spin_coupling: Option<SpinCoupling<f64>>,
+    /// The gravity-coupling extension, when fitted and kept.
+    pub gravity_coupling: Option<omniad_core::gravity_coupling::GravityCoupling<f64>>,
+    /// The held-out test that decided on them (when it was run).
+    pub extension_test: Option<crate::fit::extensions::ExtensionTest>,
+    /// The smoothness penalties of the force and torque fits (least
+    /// squares only).
+    pub smoothing: Option<FitSmoothing>,
+}
+
+/// The smoothness penalties a least-squares fit used.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FitSmoothing {
+    /// Of alpha ([`force_smoothing`]).
+    pub force: Smoothing,
+    /// Of beta ([`torque_smoothing`]).
+    pub torque: Smoothing,
+}
 
 fn model_error(e: omniad_core::ModelError) -> Error {
     Error::Data(format!("cannot build the coefficient model: {e}"))

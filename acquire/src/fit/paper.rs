@@ -5,32 +5,19 @@
 
 use crate::fit::coverage::{cell_centre, pole_frame};
 use crate::fit::damping::{matrix, omega_map, positive_definite};
-use crate::fit::lsq::{sh_and_basis, FitContext, RawModel};
+use crate::fit::context::{sh_and_basis, FitContext};
+use crate::fit::model::RawModel;
 use crate::reconstruct::forces::Sample;
 use crate::input::recording::TakeKind;
 use nalgebra::{SMatrix, Vector3};
 use omniad_core::coefficients::COVERAGE_CELLS;
 use omniad_core::sh::coeff_count;
-use std::f64::consts::PI;
+
 
 /// Frames slower than this (m/s) are not used for `C*` (the paper's
 /// airspeeds range from 1 to 10 m/s, §3).
 pub const MIN_SPEED: f64 = 1.0;
 
-/// Unit directions and solid angles (sr) of an `nlon x nlat` grid about body z.
-pub fn sphere_grid(nlon: usize, nlat: usize) -> Vec<(Vector3<f64>, f64)> {
-    let dt = PI / nlat as f64;
-    let dp = 2.0 * PI / nlon as f64;
-    let mut out = Vec::with_capacity(nlon * nlat);
-    for i in 0..nlon {
-        for j in 0..nlat {
-            let (t, p) = ((j as f64 + 0.5) * dt, (i as f64 + 0.5) * dp);
-            let e = Vector3::new(t.sin() * p.cos(), t.sin() * p.sin(), t.cos());
-            out.push((e, dp * ((t - 0.5 * dt).cos() - (t + 0.5 * dt).cos())));
-        }
-    }
-    out
-}
 
 /// Inverse-distance weighted mean of the 3 nearest samples' values.
 fn three_nearest(

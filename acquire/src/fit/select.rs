@@ -11,42 +11,14 @@
 //! candidate weight is fitted without one take and scored on that take's
 //! frames, all from per-take normal equations (no frame is visited twice).
 
-use nalgebra::{DMatrix, DVector};
+use crate::fit::normals::Normals;
+use nalgebra::DMatrix;
 
-/// Candidate smoothing weights (half-decades around the default 1e-3).
-pub const SMOOTHING_GRID: [f64; 7] = [1e-4, 3e-4, 1e-3, 3e-3, 1e-2, 3e-2, 1e-1];
 
 /// Fewest takes for cross-validation (else the configured weight is used).
 pub const MIN_TAKES: usize = 3;
 
-/// One take's weighted normal equations: `AᵀWA`, `AᵀWb` and `bᵀWb`.
-#[derive(Clone, Debug)]
-pub struct Normals {
-    /// `AᵀWA`.
-    pub ata: DMatrix<f64>,
-    /// `AᵀWb`.
-    pub atb: DVector<f64>,
-    /// `bᵀWb`.
-    pub btb: f64,
-}
 
-impl Normals {
-    /// Empty normal equations of `n` unknowns.
-    pub fn zeros(n: usize) -> Self {
-        Self {
-            ata: DMatrix::zeros(n, n),
-            atb: DVector::zeros(n),
-            btb: 0.0,
-        }
-    }
-
-    /// Adds `other`.
-    pub fn add(&mut self, other: &Self) {
-        self.ata += &other.ata;
-        self.atb += &other.atb;
-        self.btb += other.btb;
-    }
-}
 
 /// The candidate penalty whose fits without each take predict that take's
 /// forces best (summed squared error), or `fallback` with fewer than
