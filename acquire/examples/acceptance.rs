@@ -131,7 +131,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     if let Ok(path) = std::env::var("DUMP") {
         std::fs::write(path, directions_csv(&out.model, &truth, &dirs))?;
     }
-    let ctx = omniad_acquire::fit::lsq::FitContext {
+    let ctx = omniad_acquire::fit::context::FitContext {
         air_density: set.world.air_density,
         reference_length: set.object.reference_length,
         pole: set.object.pole,

@@ -5,7 +5,7 @@ mod provenance;
 
 use crate::error::{Error, Result};
 use crate::fit::extensions::ExtensionTest;
-use crate::fit::lsq::LsqConfig;
+use crate::fit::config::LsqConfig;
 use crate::fit::model::{with_raw, zero_model, FitSmoothing};
 use crate::fit::context::FitContext;
 use crate::fit::residuals::{frame_residuals, rms_dimensional, summary};

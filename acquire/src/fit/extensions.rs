@@ -21,8 +21,9 @@
 use crate::fit::context::{sh_and_basis, FitContext};
 use crate::fit::effects::{regressor, Terms};
 use crate::fit::force::{fit_force_smoothed, force_row, normals_with, ForceRow};
-use crate::fit::lsq::LsqConfig;
+use crate::fit::config::LsqConfig;
 use crate::fit::normals::Normals;
+use crate::fit::select::{held_out_scores, MIN_TAKES};
 use crate::fit::smoothing::{regularise, Smoothing};
 use crate::fit::thrust::enforce_no_thrust;
 use crate::fit::weights::{force_frames, force_weights};
@@ -39,9 +40,6 @@ pub const RIDGE_GRID: [f64; 5] = [1e-4, 1e-3, 1e-2, 1e-1, 1.0];
 /// Smallest relative reduction of the held-out squared force error for
 /// which an extension is kept (2 %).
 pub const MIN_GAIN: f64 = 0.02;
-
-/// Fewest takes for the cross-validation (with fewer, none is fitted).
-pub const MIN_TAKES: usize = 3;
 
 /// Ridge of the extensions in the joint fit with alpha, relative to the
 /// mean diagonal of their normal matrix: only keeps the system regular.
@@ -174,14 +172,14 @@ pub struct ExtensionTest {
     pub takes: usize,
 }
 
-/// Leave-one-take-out held-out squared error of `terms` (best ridge), from
-/// the per-take normal equations `all` of both terms.
+/// Leave-one-take-out held-out squared error of `terms` (best ridge of
+/// [`RIDGE_GRID`], by [`crate::fit::select`]), from the per-take normal
+/// equations `all` of both terms; `None` with fewer than
+/// [`MIN_TAKES`](crate::fit::select::MIN_TAKES) takes or when a fold
+/// cannot be solved.
 fn held_out(all: &[TakeNormals], terms: Terms) -> Option<(f64, f64, usize, usize)> {
     let rows = terms.rows();
     let takes: Vec<TakeNormals> = all.iter().map(|t| t.restrict(&rows)).collect();
-    if takes.len() < MIN_TAKES {
-        return None;
-    }
     let mut total = TakeNormals::zero(terms.width());
     for t in &takes {
         total.add(t);
@@ -190,13 +188,15 @@ fn held_out(all: &[TakeNormals], terms: Terms) -> Option<(f64, f64, usize, usize
     if scale.is_nan() || scale <= 0.0 || !scale.is_finite() {
         return None;
     }
+    let ridges = RIDGE_GRID.map(|r| r * scale);
+    let scores = held_out_scores(takes.len(), &ridges, |ridge, i, score| {
+        let t = takes.get(i)?;
+        let k = ridge_solve(&(&total.xtx - &t.xtx), &(&total.xtr - &t.xtr), *ridge)?;
+        Some(score + held_out_error(t, &k))
+    })?;
     let mut best = f64::INFINITY;
-    for ridge in RIDGE_GRID.map(|r| r * scale) {
-        let mut score = 0.0;
-        for t in &takes {
-            let k = ridge_solve(&(&total.xtx - &t.xtx), &(&total.xtr - &t.xtr), ridge)?;
-            score += held_out_error(t, &k);
-        }
+    for score in scores {
+        let score = score?;
         if score < best {
             best = score;
         }

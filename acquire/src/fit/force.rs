@@ -6,7 +6,7 @@
 //! its reconstruction uncertainty ([`crate::fit::weights`]).
 
 use crate::fit::context::{sh_and_basis, FitContext};
-use crate::fit::lsq::LsqConfig;
+use crate::fit::config::LsqConfig;
 use crate::fit::normals::Normals;
 use crate::fit::smoothing::{cross_validated, regularise, Smoothing, DEFAULT_SMOOTHNESS_ORDER, SMOOTHNESS_ORDERS};
 use crate::fit::thrust::enforce_no_thrust;

@@ -7,6 +7,7 @@
 //! weighted in [`weights`]. [`lsq`] is the default fit, [`paper`] the
 //! paper's method; [`model`] assembles the core coefficients.
 
+pub mod config;
 pub mod context;
 pub mod coverage;
 pub(crate) mod damping;

@@ -1,24 +1,53 @@
-//! Choosing the force fit's smoothing weight by leave-one-take-out
-//! cross-validation.
+//! Leave-one-take-out selection: the one engine that chooses the
+//! smoothing of the force and torque fits (weight and Sobolev order,
+//! [`crate::fit::smoothing`]) and the model extensions kept
+//! ([`crate::fit::extensions`]).
 //!
-//! The Tikhonov weight of [`crate::fit::lsq`] trades the reconstructed
-//! forces' noise against the SH truncation: from exact states less
-//! smoothing is better, from noisy reconstructions (early refinement
-//! iterations, §6; noisy tracks) more. A take's force errors are strongly
-//! correlated in time (the smoother's error along the line of sight wanders
-//! slowly), so frames are not independent and per-frame criteria such as
-//! GCV would follow that noise; holding out whole takes does not. Each
-//! candidate weight is fitted without one take and scored on that take's
-//! frames, all from per-take normal equations (no frame is visited twice).
+//! A take's force errors are strongly correlated in time (the smoother's
+//! error along the line of sight wanders slowly), so frames are not
+//! independent and per-frame criteria such as GCV would follow that noise;
+//! holding out whole takes does not. Each candidate is fitted without one
+//! take and scored on that take's frames, all from per-take normal
+//! equations (no frame is visited twice).
 
 use crate::fit::normals::Normals;
 use nalgebra::DMatrix;
 
-
-/// Fewest takes for cross-validation (else the configured weight is used).
+/// Fewest takes for leave-one-take-out selection (with fewer, the fits
+/// use their configured smoothing and fit no extensions).
 pub const MIN_TAKES: usize = 3;
 
+/// Each candidate's held-out score over `takes` takes: `fold(c, t, s)`
+/// adds to the running score `s` the error on take `t` of candidate `c`
+/// fitted without it, `None` when that fold cannot be solved. `None`
+/// (no selection) with fewer than [`MIN_TAKES`] takes; a candidate with a
+/// failed fold scores `None`. Candidates are scored on all cores, results
+/// in candidate order, so nothing depends on the threads.
+pub(crate) fn held_out_scores<P: Sync>(
+    takes: usize,
+    candidates: &[P],
+    fold: impl Fn(&P, usize, f64) -> Option<f64> + Sync,
+) -> Option<Vec<Option<f64>>> {
+    if takes < MIN_TAKES {
+        return None;
+    }
+    Some(crate::parallel::map(candidates, |_, c| {
+        (0..takes).try_fold(0.0, |score, t| fold(c, t, score))
+    }))
+}
 
+/// The first candidate of lowest score (`None` scores lose), or
+/// `fallback` when none scores below infinity.
+pub(crate) fn best<P: Copy>(candidates: &[P], scores: &[Option<f64>], fallback: P) -> P {
+    let mut best = (f64::INFINITY, fallback);
+    for (c, s) in candidates.iter().zip(scores) {
+        let s = s.unwrap_or(f64::INFINITY);
+        if s < best.0 {
+            best = (s, *c);
+        }
+    }
+    best.1
+}
 
 /// The candidate penalty whose fits without each take predict that take's
 /// forces best (summed squared error), or `fallback` with fewer than
@@ -27,7 +56,7 @@ pub const MIN_TAKES: usize = 3;
 /// `held_out` (same unknowns, possibly other weights). `regularise(ata, c)`
 /// adds candidate `c`'s smoothing term (scaled from the whole data, so that
 /// every fold is smoothed alike).
-pub fn choose<P: Copy + Sync>(
+pub(crate) fn choose<P: Copy + Sync>(
     takes: &[Normals],
     held_out: &[Normals],
     total: &Normals,
@@ -35,41 +64,19 @@ pub fn choose<P: Copy + Sync>(
     fallback: P,
     regularise: impl Fn(&mut DMatrix<f64>, P) + Sync,
 ) -> P {
-    if takes.len() < MIN_TAKES {
-        return fallback;
-    }
-    // Candidates are scored on all cores; the first best in candidate
-    // order wins, so the choice does not depend on the threads.
-    let score = |candidate: P| held_out_error(takes, held_out, total, |m| regularise(m, candidate));
-    let scores = crate::parallel::map(candidates, |_, c| score(*c));
-    let mut best = (f64::INFINITY, fallback);
-    for (c, s) in candidates.iter().zip(scores) {
-        if s < best.0 {
-            best = (s, *c);
-        }
-    }
-    best.1
-}
-
-/// Summed squared error on each held-out take of the fit without it,
-/// regularised by `regularise` (infinite when a fold is singular).
-fn held_out_error(
-    takes: &[Normals],
-    held_out: &[Normals],
-    total: &Normals,
-    regularise: impl Fn(&mut DMatrix<f64>),
-) -> f64 {
-    let mut score = 0.0;
-    for (t, h) in takes.iter().zip(held_out) {
+    let n = takes.len().min(held_out.len());
+    let fold = |c: &P, i: usize, score: f64| {
+        let (t, h) = (takes.get(i)?, held_out.get(i)?);
         let mut ata = &total.ata - &t.ata;
-        regularise(&mut ata);
-        let Some(chol) = ata.cholesky() else {
-            return f64::INFINITY;
-        };
+        regularise(&mut ata, *c);
+        let chol = ata.cholesky()?;
         // Held-out error: (b - Ac)ᵀW(b - Ac) = bᵀWb - 2 cᵀAᵀWb + cᵀAᵀWA c.
-        score += h.btb;
-        let c = chol.solve(&(&total.atb - &t.atb));
-        score += c.dot(&(&h.ata * &c)) - 2.0 * c.dot(&h.atb);
+        let score = score + h.btb;
+        let x = chol.solve(&(&total.atb - &t.atb));
+        Some(score + (x.dot(&(&h.ata * &x)) - 2.0 * x.dot(&h.atb)))
+    };
+    match held_out_scores(n, candidates, fold) {
+        Some(scores) => best(candidates, &scores, fallback),
+        None => fallback,
     }
-    score
 }

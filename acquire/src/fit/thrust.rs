@@ -3,7 +3,7 @@
 
 use crate::fit::context::sh_and_basis;
 use crate::fit::coverage::sphere_grid;
-use crate::fit::lsq::LsqConfig;
+use crate::fit::config::LsqConfig;
 use crate::fit::normals::solve;
 use nalgebra::{DMatrix, DVector};
 

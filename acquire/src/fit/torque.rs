@@ -4,7 +4,7 @@
 
 use crate::fit::context::{sh_and_basis, FitContext};
 use crate::fit::damping::{matrix, omega_map, positive_definite};
-use crate::fit::lsq::LsqConfig;
+use crate::fit::config::LsqConfig;
 use crate::fit::normals::{solve, Normals};
 use crate::fit::smoothing::{cross_validated, regularise, Smoothing, SMOOTHNESS_ORDERS};
 use crate::reconstruct::forces::Sample;
@@ -44,7 +44,7 @@ fn torque_normals(samples: &[Sample], ctx: &FitContext, degree: usize) -> (Vec<N
 
 /// The torque fit's smoothness penalty on beta: `cfg.smoothing` of order
 /// 1 (the Dirichlet energy), or, when `cfg.cross_validate`, the weight and
-/// order of [`crate::fit::select::SMOOTHING_GRID`] x [`SMOOTHNESS_ORDERS`] that
+/// order of [`crate::fit::smoothing::SMOOTHING_GRID`] x [`SMOOTHNESS_ORDERS`] that
 /// predicts held-out takes' torques best. (The torque model steers the
 /// reconstructed attitude, and through it the direction E every force
 /// frame is filed under: openbox-clean's C_F went from 7.74 % to 7.35 %

@@ -7,7 +7,7 @@ pub mod filter;
 pub mod forces;
 pub mod measurement;
 pub mod noise;
-pub(crate) mod process;
+pub mod process;
 pub mod run;
 pub mod schedule;
 pub(crate) mod state;
