@@ -22,8 +22,8 @@ use crate::fit::context::{sh_and_basis, FitContext};
 use crate::fit::effects::{regressor, Terms};
 use crate::fit::force::{fit_force_smoothed, force_row, normals_with, ForceRow};
 use crate::fit::config::LsqConfig;
-use crate::fit::normals::Normals;
-use crate::fit::select::{held_out_scores, MIN_TAKES};
+use crate::fit::normals::{per_take, total, Accumulate, Normals, Rows};
+use crate::fit::select::held_out_scores;
 use crate::fit::smoothing::{regularise, Smoothing};
 use crate::fit::thrust::enforce_no_thrust;
 use crate::fit::weights::{force_frames, force_weights};
@@ -62,15 +62,6 @@ struct TakeNormals {
 }
 
 impl TakeNormals {
-    fn zero(width: usize) -> Self {
-        Self {
-            xtx: DMatrix::zeros(width, width),
-            xtr: DMatrix::zeros(width, 3),
-            rtr: 0.0,
-            frames: 0,
-        }
-    }
-
     /// The normal equations of the regressors `rows` of these.
     fn restrict(&self, rows: &[usize]) -> Self {
         Self {
@@ -78,6 +69,17 @@ impl TakeNormals {
             xtr: self.xtr.select_rows(rows),
             rtr: self.rtr,
             frames: self.frames,
+        }
+    }
+}
+
+impl Accumulate for TakeNormals {
+    fn zeros(width: usize) -> Self {
+        Self {
+            xtx: DMatrix::zeros(width, width),
+            xtr: DMatrix::zeros(width, 3),
+            rtr: 0.0,
+            frames: 0,
         }
     }
 
@@ -96,28 +98,33 @@ fn normals(
     terms: Terms,
     residual: &dyn Fn(&Sample) -> Vector3<f64>,
 ) -> Vec<TakeNormals> {
-    let mut takes: Vec<(usize, TakeNormals)> = Vec::new();
-    for s in samples.iter().filter(|s| s.use_force) {
+    let frames = samples.iter().filter(|s| s.use_force).filter_map(|s| {
         let x = regressor(s, ctx, terms);
         let r = residual(s);
-        if !x.iter().chain(r.iter()).all(|v| v.is_finite()) {
-            continue;
-        }
-        let at = match takes.iter().position(|(t, _)| *t == s.take) {
-            Some(i) => i,
-            None => {
-                takes.push((s.take, TakeNormals::zero(terms.width())));
-                takes.len() - 1
-            }
-        };
-        if let Some((_, n)) = takes.get_mut(at) {
-            n.xtx += &x * x.transpose();
-            n.xtr += &x * r.transpose();
-            n.rtr += r.norm_squared();
-            n.frames += 1;
-        }
+        let finite = x.iter().chain(r.iter()).all(|v| v.is_finite());
+        finite.then_some((s.take, (x, r)))
+    });
+    per_take(frames, &ResidualRows(terms.width()))
+}
+
+/// The extension test's rows: `width` regressors per force component, the
+/// residual force the three targets.
+struct ResidualRows(usize);
+
+impl Rows for ResidualRows {
+    type Frame = (DVector<f64>, Vector3<f64>);
+    type Normals = TakeNormals;
+
+    fn dim(&self) -> usize {
+        self.0
     }
-    takes.into_iter().map(|(_, n)| n).collect()
+
+    fn add(&self, (x, r): &Self::Frame, n: &mut TakeNormals) {
+        n.xtx += x * x.transpose();
+        n.xtr += x * r.transpose();
+        n.rtr += r.norm_squared();
+        n.frames += 1;
+    }
 }
 
 fn ridge_solve(xtx: &DMatrix<f64>, xtr: &DMatrix<f64>, ridge: f64) -> Option<DMatrix<f64>> {
@@ -175,15 +182,12 @@ pub struct ExtensionTest {
 /// Leave-one-take-out held-out squared error of `terms` (best ridge of
 /// [`RIDGE_GRID`], by [`crate::fit::select`]), from the per-take normal
 /// equations `all` of both terms; `None` with fewer than
-/// [`MIN_TAKES`](crate::fit::select::MIN_TAKES) takes or when a fold
+/// [`crate::fit::select::MIN_TAKES`] takes or when a fold
 /// cannot be solved.
 fn held_out(all: &[TakeNormals], terms: Terms) -> Option<(f64, f64, usize, usize)> {
     let rows = terms.rows();
     let takes: Vec<TakeNormals> = all.iter().map(|t| t.restrict(&rows)).collect();
-    let mut total = TakeNormals::zero(terms.width());
-    for t in &takes {
-        total.add(t);
-    }
+    let total: TakeNormals = total(&takes, terms.width());
     let scale = total.xtx.trace() / terms.width() as f64;
     if scale.is_nan() || scale <= 0.0 || !scale.is_finite() {
         return None;
@@ -205,7 +209,7 @@ fn held_out(all: &[TakeNormals], terms: Terms) -> Option<(f64, f64, usize, usize
 }
 
 /// The held-out test of every candidate on `residual(s) = F*(s) -
-/// F_model(s)`; `None` when it cannot be run (fewer than [`MIN_TAKES`]
+/// F_model(s)`; `None` when it cannot be run (fewer than [`crate::fit::select::MIN_TAKES`]
 /// takes, no usable frames).
 pub fn test(
     samples: &[Sample],

@@ -7,7 +7,7 @@
 
 use crate::fit::context::{sh_and_basis, FitContext};
 use crate::fit::config::LsqConfig;
-use crate::fit::normals::Normals;
+use crate::fit::normals::{per_take, total, Normals, Rows};
 use crate::fit::smoothing::{cross_validated, regularise, Smoothing, DEFAULT_SMOOTHNESS_ORDER, SMOOTHNESS_ORDERS};
 use crate::fit::thrust::enforce_no_thrust;
 use crate::fit::weights::{force_frames, force_weights};
@@ -60,25 +60,35 @@ pub(crate) fn normals_with(
     ctx: &FitContext,
     degree: usize,
 ) -> (Vec<Normals>, Normals) {
-    let n = coeff_count(degree);
-    let mut takes: Vec<(usize, Normals)> = Vec::new();
-    for (s, w) in frames.iter().zip(weights) {
+    let rows = ForceRows { ctx, degree };
+    let takes = per_take(frames.iter().zip(weights).map(|(s, w)| (s.take, (*s, w))), &rows);
+    let total = total(&takes, rows.dim());
+    (takes, total)
+}
+
+/// The force fit's rows: unknowns `(α¹, α², α³)`, a frame's three rows
+/// [`ForceRow`] weighted by `BᵀWB`.
+struct ForceRows<'a> {
+    ctx: &'a FitContext,
+    degree: usize,
+}
+
+impl<'a> Rows for ForceRows<'a> {
+    type Frame = (&'a Sample, &'a Matrix3<f64>);
+    type Normals = Normals;
+
+    fn dim(&self) -> usize {
+        3 * coeff_count(self.degree)
+    }
+
+    fn add(&self, (s, w): &Self::Frame, nt: &mut Normals) {
+        let n = coeff_count(self.degree);
         let ForceRow {
             a,
             weight: wb,
             target,
             ..
-        } = force_row(s, w, ctx, degree);
-        let at = match takes.iter().position(|(t, _)| *t == s.take) {
-            Some(i) => i,
-            None => {
-                takes.push((s.take, Normals::zeros(3 * n)));
-                takes.len() - 1
-            }
-        };
-        let Some((_, nt)) = takes.get_mut(at) else {
-            continue;
-        };
+        } = force_row(s, w, self.ctx, self.degree);
         let wt = wb * target;
         for i in 0..3 {
             for j in 0..3 {
@@ -90,12 +100,6 @@ pub(crate) fn normals_with(
         }
         nt.btb += target.dot(&wt);
     }
-    let takes: Vec<Normals> = takes.into_iter().map(|(_, t)| t).collect();
-    let mut total = Normals::zeros(3 * n);
-    for t in &takes {
-        total.add(t);
-    }
-    (takes, total)
 }
 
 /// The force fit's smoothness penalty: `cfg.smoothing` of order

@@ -5,6 +5,59 @@
 
 use nalgebra::{DMatrix, DVector};
 
+/// Normal equations that add up over takes.
+pub(crate) trait Accumulate {
+    /// Empty equations of `dim` unknowns.
+    fn zeros(dim: usize) -> Self;
+    /// Adds `other`.
+    fn add(&mut self, other: &Self);
+}
+
+/// A fit's rows: how many unknowns it has, and how one frame's weighted
+/// rows add to a take's normal equations. The force fit, the torque fit
+/// and the extension terms each implement it; [`per_take`] does the rest.
+pub(crate) trait Rows {
+    /// One frame as this fit sees it.
+    type Frame;
+    /// The normal equations it builds.
+    type Normals: Accumulate;
+    /// Unknowns.
+    fn dim(&self) -> usize;
+    /// Adds `frame`'s rows to `normals`.
+    fn add(&self, frame: &Self::Frame, normals: &mut Self::Normals);
+}
+
+/// One take's normal equations per take of `frames` (take index, frame),
+/// in order of first appearance.
+pub(crate) fn per_take<R: Rows>(
+    frames: impl IntoIterator<Item = (usize, R::Frame)>,
+    rows: &R,
+) -> Vec<R::Normals> {
+    let mut takes: Vec<(usize, R::Normals)> = Vec::new();
+    for (take, frame) in frames {
+        let at = match takes.iter().position(|(t, _)| *t == take) {
+            Some(i) => i,
+            None => {
+                takes.push((take, R::Normals::zeros(rows.dim())));
+                takes.len() - 1
+            }
+        };
+        if let Some((_, n)) = takes.get_mut(at) {
+            rows.add(&frame, n);
+        }
+    }
+    takes.into_iter().map(|(_, n)| n).collect()
+}
+
+/// The sum of per-take normal equations of `dim` unknowns.
+pub(crate) fn total<N: Accumulate>(takes: &[N], dim: usize) -> N {
+    let mut total = N::zeros(dim);
+    for t in takes {
+        total.add(t);
+    }
+    total
+}
+
 /// One take's weighted normal equations: `AᵀWA`, `AᵀWb` and `bᵀWb`.
 #[derive(Clone, Debug)]
 pub struct Normals {
@@ -16,9 +69,8 @@ pub struct Normals {
     pub btb: f64,
 }
 
-impl Normals {
-    /// Empty normal equations of `n` unknowns.
-    pub fn zeros(n: usize) -> Self {
+impl Accumulate for Normals {
+    fn zeros(n: usize) -> Self {
         Self {
             ata: DMatrix::zeros(n, n),
             atb: DVector::zeros(n),
@@ -26,8 +78,7 @@ impl Normals {
         }
     }
 
-    /// Adds `other`.
-    pub fn add(&mut self, other: &Self) {
+    fn add(&mut self, other: &Self) {
         self.ata += &other.ata;
         self.atb += &other.atb;
         self.btb += other.btb;

@@ -5,7 +5,7 @@
 use crate::fit::context::{sh_and_basis, FitContext};
 use crate::fit::damping::{matrix, omega_map, positive_definite};
 use crate::fit::config::LsqConfig;
-use crate::fit::normals::{solve, Normals};
+use crate::fit::normals::{per_take, solve, total, Normals, Rows};
 use crate::fit::smoothing::{cross_validated, regularise, Smoothing, SMOOTHNESS_ORDERS};
 use crate::reconstruct::forces::Sample;
 use nalgebra::{DMatrix, DVector, Vector3};
@@ -15,31 +15,35 @@ use omniad_core::sh::coeff_count;
 /// `(β¹, β², β³, d)` (eqs. 6, 8; unweighted), from the frames that pass
 /// both stability tests.
 fn torque_normals(samples: &[Sample], ctx: &FitContext, degree: usize) -> (Vec<Normals>, Normals) {
-    let n = coeff_count(degree);
-    let dim = 3 * n + 6;
-    let mut takes: Vec<(usize, Normals)> = Vec::new();
-    for s in samples.iter().filter(|s| s.use_torque) {
-        let at = match takes.iter().position(|(t, _)| *t == s.take) {
-            Some(i) => i,
-            None => {
-                takes.push((s.take, Normals::zeros(dim)));
-                takes.len() - 1
-            }
-        };
-        let Some((_, nt)) = takes.get_mut(at) else {
-            continue;
-        };
-        for row in torque_rows(s, ctx, degree) {
+    let rows = TorqueRows { ctx, degree };
+    let frames = samples.iter().filter(|s| s.use_torque).map(|s| (s.take, s));
+    let takes = per_take(frames, &rows);
+    let total = total(&takes, rows.dim());
+    (takes, total)
+}
+
+/// The torque fit's rows: unknowns `(β¹, β², β³, d)`, a frame's three
+/// [`TorqueRow`]s, unweighted.
+struct TorqueRows<'a> {
+    ctx: &'a FitContext,
+    degree: usize,
+}
+
+impl<'a> Rows for TorqueRows<'a> {
+    type Frame = &'a Sample;
+    type Normals = Normals;
+
+    fn dim(&self) -> usize {
+        3 * coeff_count(self.degree) + 6
+    }
+
+    fn add(&self, s: &Self::Frame, nt: &mut Normals) {
+        let n = coeff_count(self.degree);
+        for row in torque_rows(s, self.ctx, self.degree) {
             accumulate(&mut nt.ata, &mut nt.atb, n, &row);
             nt.btb += row.target * row.target;
         }
     }
-    let takes: Vec<Normals> = takes.into_iter().map(|(_, t)| t).collect();
-    let mut total = Normals::zeros(dim);
-    for t in &takes {
-        total.add(t);
-    }
-    (takes, total)
 }
 
 /// The torque fit's smoothness penalty on beta: `cfg.smoothing` of order
