@@ -7,7 +7,8 @@ use omniad_acquire::reconstruct::run::Silent;
 use omniad_acquire::input::recording::RecordingSet;
 use omniad_acquire::synth::{SynthConfig, SynthObject};
 use omniad_acquire::synth::write::generate;
-use omniad_acquire::synth::truth::{read_states, state_error, StateError};
+use omniad_acquire::input::state_csv::read_states;
+use omniad_acquire::synth::truth::{state_error, StateError};
 
 fn small_set(dir: &std::path::Path, outliers: f64) {
     let cfg = SynthConfig {

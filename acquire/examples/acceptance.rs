@@ -11,8 +11,9 @@
 use omniad_acquire::pipeline::{self, FitConfig, Method};
 use omniad_acquire::reconstruct::run::Silent;
 use omniad_acquire::input::recording::RecordingSet;
+use omniad_acquire::input::state_csv::read_states;
 use omniad_acquire::synth::truth::{
-    fitted_directions, force_error, read_coefficients, read_states, state_error, StateError,
+    fitted_directions, force_error, read_coefficients, state_error, StateError,
 };
 use std::path::Path;
 use std::time::Instant;

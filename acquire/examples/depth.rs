@@ -7,7 +7,7 @@ use nalgebra::{Quaternion, SMatrix, SVector, UnitQuaternion, Vector3};
 use omniad_acquire::reconstruct::measurement::marker_pixel;
 use omniad_acquire::input::recording::RecordingSet;
 use omniad_acquire::input::tracks::Observation;
-use omniad_acquire::synth::truth::read_states;
+use omniad_acquire::input::state_csv::read_states;
 use omniad_core::State;
 use std::path::Path;
 

@@ -13,7 +13,7 @@ use omniad_acquire::pipeline;
 use omniad_acquire::reconstruct::run::Silent;
 use omniad_acquire::input::recording::RecordingSet;
 use omniad_acquire::synth::{truth_model, ObjectSpec, SynthObject};
-use omniad_acquire::synth::truth::read_states;
+use omniad_acquire::input::state_csv::read_states;
 use std::path::Path;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {

@@ -83,7 +83,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let rec = omniad_acquire::reconstruct::run::refine(&set, m, noise, &cfg.filter, &out.reconstruction, &Silent)?;
         let mut total = omniad_acquire::synth::truth::StateError::default();
         for (take, s) in set.takes.iter().zip(&rec) {
-            let t = omniad_acquire::synth::truth::read_states(
+            let t = omniad_acquire::input::state_csv::read_states(
                 &dir.join("truth").join(format!("{}.csv", take.name)),
             )?;
             total.add(&omniad_acquire::synth::truth::state_error(s, &t));

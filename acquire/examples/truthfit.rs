@@ -7,8 +7,9 @@ use omniad_acquire::reconstruct::forces::ForceStats;
 use omniad_acquire::fit::model::zero_model;
 use omniad_acquire::pipeline::{self, FitConfig};
 use omniad_acquire::input::recording::RecordingSet;
+use omniad_acquire::input::state_csv::read_states;
 use omniad_acquire::synth::truth::{
-    fitted_directions, force_error, read_coefficients, read_states, true_trajectories,
+    fitted_directions, force_error, read_coefficients, true_trajectories,
 };
 use std::path::Path;
 

@@ -1,5 +1,6 @@
 //! `omniad simulate FILE --duration S`: one body through air, RK4 (§4.3).
 
+use omniad_acquire::input::state_csv::{self, TimeFormat};
 use super::common::read_coefficients;
 use anyhow::{bail, Context, Result};
 use clap::Args;
@@ -8,7 +9,6 @@ use omniad_core::integrate::rk4_step;
 use omniad_core::rigid_body::AirForces;
 use omniad_core::{Environment, RigidBody, State};
 use serde_json::json;
-use std::fmt::Write as _;
 use std::path::PathBuf;
 
 /// Arguments of `omniad simulate`.
@@ -117,9 +117,9 @@ pub fn run(a: &SimulateArgs) -> Result<()> {
     };
     let steps = (a.duration / a.dt).round() as u64;
     let every = ((1.0 / a.rate) / a.dt).round().max(1.0) as u64;
-    let mut csv = String::from("t,x,y,z,qw,qx,qy,qz,vx,vy,vz,wx,wy,wz\n");
+    let mut csv = state_csv::header();
     let mut t = 0.0;
-    push_row(&mut csv, t, &s);
+    state_csv::push_row(&mut csv, t, &s, TimeFormat::Micros);
     let mut step = 0;
     while step < steps {
         s = rk4_step(&body, &env, &forces, t, a.dt, &s);
@@ -130,7 +130,7 @@ pub fn run(a: &SimulateArgs) -> Result<()> {
         }
         let grounded = a.stop_at_ground && s.position.z <= 0.0;
         if step % every == 0 || step == steps || grounded {
-            push_row(&mut csv, t, &s);
+            state_csv::push_row(&mut csv, t, &s, TimeFormat::Micros);
         }
         if grounded {
             break;
@@ -179,14 +179,4 @@ fn body_of(model: &omniad_core::Coefficients<f64>, a: &SimulateArgs) -> Result<R
             RigidBody::new(m, body.inertia * scale).map_err(|e| anyhow::anyhow!("--mass: {e}"))?;
     }
     Ok(body)
-}
-
-fn push_row(out: &mut String, t: f64, s: &State<f64>) {
-    let q = s.orientation.quaternion();
-    let (p, v, w) = (s.position, s.velocity, s.angular_velocity);
-    let _ = writeln!(
-        out,
-        "{t:.6},{},{},{},{},{},{},{},{},{},{},{},{},{}",
-        p.x, p.y, p.z, q.w, q.i, q.j, q.k, v.x, v.y, v.z, w.x, w.y, w.z
-    );
 }

@@ -5,5 +5,6 @@ pub mod camera;
 pub mod import;
 pub mod object;
 pub mod recording;
+pub mod state_csv;
 pub mod tracks;
 pub(crate) mod validate;

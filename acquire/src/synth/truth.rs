@@ -4,29 +4,11 @@
 use crate::fit::coverage::count_within;
 use crate::error::{Error, Result};
 use crate::reconstruct::filter::Smoothed;
+use crate::input::state_csv::read_states;
 use crate::input::tracks::{number, rows};
 use nalgebra::{UnitQuaternion, Vector3};
 use omniad_core::Coefficients;
 use std::path::Path;
-
-/// Columns of `truth/<take>.csv` (and of `omniad reconstruct` output).
-pub const STATE_COLUMNS: [&str; 14] = [
-    "t", "x", "y", "z", "qw", "qx", "qy", "qz", "vx", "vy", "vz", "wx", "wy", "wz",
-];
-
-/// Reads a state CSV: rows of 14 numbers.
-pub fn read_states(path: &Path) -> Result<Vec<[f64; 14]>> {
-    let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
-    let mut out = Vec::new();
-    for (line, f) in rows(path, &text, &STATE_COLUMNS)? {
-        let mut v = [0.0; 14];
-        for ((slot, s), col) in v.iter_mut().zip(&f).zip(STATE_COLUMNS) {
-            *slot = number(path, line, col, s)?;
-        }
-        out.push(v);
-    }
-    Ok(out)
-}
 
 /// The true trajectory of every take of the set in `dir` (from
 /// `truth/<take>.csv`), in the form the force computation takes, for

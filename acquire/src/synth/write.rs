@@ -2,6 +2,7 @@
 //! recording format, with `truth/`.
 
 use crate::input::camera::Camera;
+use crate::input::state_csv::{self, TimeFormat};
 use crate::error::{Error, Result};
 use crate::synth::rng::Rng;
 use crate::synth::{random_start, simulate, truth_model, ObjectSpec, SynthConfig, SynthForces};
@@ -26,8 +27,9 @@ pub fn standard_camera(pixel_noise: f64) -> Camera {
     }
 }
 
+/// Writes `text` to `path` atomically (temporary file + rename).
 fn write(path: &Path, text: &str) -> Result<()> {
-    std::fs::write(path, text).map_err(|e| Error::io(path, e))
+    omniad_io::write_atomic(path, text.as_bytes()).map_err(|e| Error::io(path, e))
 }
 
 fn v3(v: &Vector3<f64>) -> String {
@@ -195,34 +197,8 @@ fn marker_csv(
 }
 
 fn truth_csv(states: &[State<f64>], fps: f64) -> String {
-    let mut s = String::from("t,x,y,z,qw,qx,qy,qz,vx,vy,vz,wx,wy,wz\n");
-    for (k, st) in states.iter().enumerate() {
-        let (p, q, v, w) = (
-            st.position,
-            st.orientation.quaternion(),
-            st.velocity,
-            st.angular_velocity,
-        );
-        let _ = writeln!(
-            s,
-            "{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
-            k as f64 / fps,
-            p.x,
-            p.y,
-            p.z,
-            q.w,
-            q.i,
-            q.j,
-            q.k,
-            v.x,
-            v.y,
-            v.z,
-            w.x,
-            w.y,
-            w.z
-        );
-    }
-    s
+    let rows = states.iter().enumerate().map(|(k, st)| (k as f64 / fps, st));
+    state_csv::to_csv(rows, TimeFormat::Exact)
 }
 
 /// `C_F`, `C_T` on the 32 x 16 grid about body z (as the shared sets).
