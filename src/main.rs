@@ -45,6 +45,9 @@ enum Command {
     Synth(cmd::synth::SynthArgs),
     /// Convert DLTdv / DeepLabCut marker tracks to the recording format.
     ImportTracks(cmd::import::ImportArgs),
+    /// Research measurements behind BENCHMARKS.md (synthetic sets with truth/).
+    #[command(subcommand)]
+    Lab(cmd::lab::LabCommand),
 }
 
 fn main() -> ExitCode {
@@ -62,6 +65,7 @@ fn main() -> ExitCode {
         Some(Command::Reconstruct(a)) => cmd::reconstruct::run(a),
         Some(Command::Synth(a)) => cmd::synth::run(a),
         Some(Command::ImportTracks(a)) => cmd::import::run(a),
+        Some(Command::Lab(c)) => cmd::lab::run(c),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -10,6 +10,7 @@
 //! holds the research measurements behind BENCHMARKS.md (`omniad lab`).
 
 pub mod error;
+pub mod lab;
 pub mod fit;
 pub mod input;
 pub mod panel;

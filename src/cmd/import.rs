@@ -69,8 +69,7 @@ pub fn run(a: &ImportArgs) -> Result<()> {
         TrackFormat::Dlc => import::read_deeplabcut(&a.input, &o),
     }
     .map_err(|e| anyhow::anyhow!("{e}"))?;
-    std::fs::write(&a.output, import::to_marker_csv(&rows))
-        .with_context(|| format!("cannot write {}", a.output.display()))?;
+    import::write_marker_csv(&a.output, &rows).map_err(|e| anyhow::anyhow!("{e}"))?;
     println!("wrote {} rows to {}", rows.len(), a.output.display());
     Ok(())
 }

@@ -7,6 +7,7 @@ pub mod fit;
 pub mod import;
 pub mod info;
 pub mod kite;
+pub mod lab;
 pub mod panel;
 pub mod reconstruct;
 pub mod simulate;

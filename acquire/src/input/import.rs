@@ -231,6 +231,12 @@ pub fn to_marker_csv(rows: &[Row]) -> String {
     s
 }
 
+/// Writes the rows' marker-track file to `path` atomically (temporary
+/// file + rename: an interrupted import never leaves half a file).
+pub fn write_marker_csv(path: &Path, rows: &[Row]) -> Result<()> {
+    omniad_io::write_atomic(path, to_marker_csv(rows).as_bytes()).map_err(|e| Error::io(path, e))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

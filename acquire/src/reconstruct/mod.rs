@@ -5,9 +5,9 @@
 
 pub mod filter;
 pub mod forces;
-pub mod measurement;
+pub(crate) mod measurement;
 pub mod noise;
-pub mod process;
+pub(crate) mod process;
 pub mod run;
 pub mod schedule;
 pub(crate) mod state;

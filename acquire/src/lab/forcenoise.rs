@@ -3,28 +3,29 @@
 //! with the same frames' forces from the TRUE states (per-frame RMS
 //! difference and its mean in the body frame), then fits the true forces
 //! plus white noise of that RMS and reports the C_F error of both fits:
-//! `cargo run --release -p omniad-acquire --example forcenoise -- SET`.
+//! `omniad lab forcenoise SET`.
 
+use super::{say, LabResult};
+use std::io::Write;
 use nalgebra::Vector3;
-use omniad_acquire::reconstruct::forces::ForceStats;
-use omniad_acquire::fit::model::zero_model;
-use omniad_acquire::pipeline::{self, FitConfig};
-use omniad_acquire::reconstruct::run::Silent;
-use omniad_acquire::input::recording::RecordingSet;
-use omniad_acquire::synth::rng::Rng;
-use omniad_acquire::synth::truth::{fitted_directions, force_error, read_coefficients, true_trajectories};
+use crate::reconstruct::forces::ForceStats;
+use crate::fit::model::zero_model;
+use crate::pipeline::{self, FitConfig};
+use crate::reconstruct::run::Silent;
+use crate::input::recording::RecordingSet;
+use crate::synth::rng::Rng;
+use crate::synth::truth::{fitted_directions, force_error, read_coefficients, true_trajectories};
 use std::collections::HashMap;
 use std::path::Path;
 
-fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let args: Vec<String> = std::env::args().collect();
-    let dir = Path::new(args.get(1).ok_or("usage: forcenoise SET")?);
+/// The force-noise study of the set in `dir` (with `truth/`).
+pub fn run(dir: &Path, out: &mut dyn Write) -> LabResult {
     let set = RecordingSet::load(dir)?;
     let cfg = FitConfig::default();
-    let out = pipeline::fit(&set, &cfg, &Silent)?;
+    let fit = pipeline::fit(&set, &cfg, &Silent)?;
     let smoothed = true_trajectories(dir, &set)?;
     let mut stats = ForceStats::default();
-    let true_frames = omniad_acquire::reconstruct::run::samples(&set, &smoothed, &mut stats);
+    let true_frames = crate::reconstruct::run::samples(&set, &smoothed, &mut stats);
     let by_key: HashMap<(usize, usize), usize> = true_frames
         .iter()
         .enumerate()
@@ -33,7 +34,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let (mut sum, mut sq, mut n) = (Vector3::zeros(), 0.0, 0usize);
     let mut diffs: Vec<(usize, Vector3<f64>, Vector3<f64>)> = Vec::new();
     let mut covs: Vec<(Vector3<f64>, nalgebra::Matrix3<f64>)> = Vec::new();
-    for s in out.samples.iter().filter(|s| s.use_force) {
+    for s in fit.samples.iter().filter(|s| s.use_force) {
         let Some(t) = by_key
             .get(&(s.take, s.index))
             .and_then(|&i| true_frames.get(i))
@@ -47,20 +48,20 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         diffs.push((s.take, d, t.velocity));
         covs.push((d, s.force_cov));
     }
-    low_pass_report(&diffs);
-    calibration_report(&covs);
+    low_pass_report(&diffs, out)?;
+    calibration_report(&covs, out)?;
     let weight = set.object.mass * set.world.gravity.norm();
     let rms = (sq / n.max(1) as f64).sqrt();
-    println!(
+    say!(out, 
         "{n} frames: force difference RMS {:.3} N ({:.1} % of M g), mean {:?} N",
         rms,
         100.0 * rms / weight,
         (sum / n.max(1) as f64).as_slice()
     );
     let truth = read_coefficients(&dir.join("truth/coefficients.csv"))?;
-    let dirs = fitted_directions(&out.samples);
-    let (err, k) = force_error(&out.model, &truth, &dirs, 20, 15f64.to_radians());
-    println!("pipeline fit: C_F {:.2} % over {k} directions", err * 100.0);
+    let dirs = fitted_directions(&fit.samples);
+    let (err, k) = force_error(&fit.model, &truth, &dirs, 20, 15f64.to_radians());
+    say!(out, "pipeline fit: C_F {:.2} % over {k} directions", err * 100.0);
     let mut rng = Rng::new(1);
     let sigma = rms / 3f64.sqrt();
     let noisy: Vec<_> = true_frames
@@ -75,14 +76,14 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     for (label, frames) in [("true forces", &true_frames), ("true + noise", &noisy)] {
         let model = pipeline::fit_samples(&base, frames, &set, &cfg)?;
         let (err, k) = force_error(&model, &truth, &dirs, 20, 15f64.to_radians());
-        println!("{label}: C_F {:.2} % over {k} directions", err * 100.0);
+        say!(out, "{label}: C_F {:.2} % over {k} directions", err * 100.0);
     }
     Ok(())
 }
 
 /// RMS of the force difference along the true air velocity and across it,
 /// and of its 15-frame moving average (the time-correlated part).
-fn low_pass_report(diffs: &[(usize, Vector3<f64>, Vector3<f64>)]) {
+fn low_pass_report(diffs: &[(usize, Vector3<f64>, Vector3<f64>)], out: &mut dyn Write) -> LabResult {
     let (mut along, mut across, mut low, mut n, mut m) = (0.0, 0.0, 0.0, 0usize, 0usize);
     for (i, (take, d, v)) in diffs.iter().enumerate() {
         let u = v.normalize();
@@ -98,19 +99,20 @@ fn low_pass_report(diffs: &[(usize, Vector3<f64>, Vector3<f64>)]) {
             m += 1;
         }
     }
-    println!(
+    say!(out, 
         "difference RMS along V {:.4} N, across V {:.4} N, 15-frame mean {:.4} N",
         (along / n.max(1) as f64).sqrt(),
         (across / n.max(1) as f64).sqrt(),
         (low / m.max(1) as f64).sqrt()
     );
+    Ok(())
 }
 
 /// Does the smoother's force covariance describe the force differences?
 /// RMS difference along each frame's most and least uncertain direction
 /// against the predicted sigmas, and RMS |difference| by quartile of
 /// predicted trace.
-fn calibration_report(covs: &[(Vector3<f64>, nalgebra::Matrix3<f64>)]) {
+fn calibration_report(covs: &[(Vector3<f64>, nalgebra::Matrix3<f64>)], out: &mut dyn Write) -> LabResult {
     let (mut big, mut big_pred, mut small, mut small_pred) = (0.0, 0.0, 0.0, 0.0);
     let mut by_trace: Vec<(f64, f64)> = Vec::new();
     for (d, c) in covs {
@@ -123,7 +125,7 @@ fn calibration_report(covs: &[(Vector3<f64>, nalgebra::Matrix3<f64>)]) {
         by_trace.push((c.trace(), d.norm_squared()));
     }
     let n = covs.len().max(1) as f64;
-    println!(
+    say!(out, 
         "most uncertain direction: RMS {:.4} N predicted {:.4} N; least: RMS {:.4} N predicted {:.4} N",
         (big / n).sqrt(),
         (big_pred / n).sqrt(),
@@ -134,10 +136,11 @@ fn calibration_report(covs: &[(Vector3<f64>, nalgebra::Matrix3<f64>)]) {
     let q = by_trace.len() / 4;
     for (i, chunk) in by_trace.chunks(q.max(1)).take(4).enumerate() {
         let m = chunk.len().max(1) as f64;
-        println!(
+        say!(out, 
             "trace quartile {i}: predicted RMS {:.4} N, actual RMS {:.4} N",
             (chunk.iter().map(|x| x.0).sum::<f64>() / m).sqrt(),
             (chunk.iter().map(|x| x.1).sum::<f64>() / m).sqrt()
         );
     }
+    Ok(())
 }

@@ -1,18 +1,20 @@
 //! Depth diagnostics on a synthetic set: per take, the reprojection
 //! residuals of the TRUE states, per-frame 6-DOF pose fits (Gauss-Newton
 //! from the truth) and their line-of-sight error and Cramér-Rao bound:
-//! `cargo run --release -p omniad-acquire --example depth -- SET`.
+//! `omniad lab depth SET`.
 
+use super::{say, LabResult};
+use std::io::Write;
 use nalgebra::{Quaternion, SMatrix, SVector, UnitQuaternion, Vector3};
-use omniad_acquire::reconstruct::measurement::marker_pixel;
-use omniad_acquire::input::recording::RecordingSet;
-use omniad_acquire::input::tracks::Observation;
-use omniad_acquire::input::state_csv::read_states;
+use crate::reconstruct::measurement::marker_pixel;
+use crate::input::recording::RecordingSet;
+use crate::input::tracks::Observation;
+use crate::input::state_csv::read_states;
 use omniad_core::State;
 use std::path::Path;
 
-fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let dir = Path::new(std::env::args().nth(1).ok_or("usage: depth SET")?.as_str()).to_owned();
+/// The depth diagnostics of the set in `dir` (with `truth/`).
+pub fn run(dir: &Path, out: &mut dyn Write) -> LabResult {
     let set = RecordingSet::load(&dir)?;
     let cam = set.camera.as_ref().ok_or("no camera")?;
     let eye = -cam.rotation.transpose() * cam.translation;
@@ -89,7 +91,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             n += 1;
         }
         let nf = n.max(1) as f64;
-        println!(
+        say!(out, 
             "{:8} reproj mean [{:5.2} {:5.2}] rms {:.2} px | per-frame LOS err mean {:6.2} rms {:5.2} cm, CRB rms {:5.2} cm, CRB of take mean {:4.2} cm ({n} frames)",
             take.name,
             res_sum.x / nres.max(1) as f64,

@@ -2,78 +2,80 @@
 //! camera frame (mean and RMS per axis), reconstructing with the generating
 //! model of the project's synthetic plate or box, a zero model, or the
 //! pipeline's fitted model:
-//! `cargo run --release -p omniad-acquire --example diag -- SET plate|box|zero|fit
-//! [walk-scale] [white-noise-scale] [initial-bias-scale]`.
-//! `TAKE=name` prints that take's errors over time; `MIRROR_WINDOW=n` sets
+//! `omniad lab diag SET --model plate|box|zero|fit [--walk-scale S]
+//! [--white-scale S] [--bias-scale S]`.
+//! `--take NAME` prints that take's errors over time; `--mirror-window N` sets
 //! `FilterConfig::mirror_window` (0: no mirror-branch tests).
 
+use super::Knobs;
+use super::{say, LabResult};
+use std::io::Write;
 use nalgebra::{Quaternion, UnitQuaternion, Vector3};
-use omniad_acquire::reconstruct::filter::FilterConfig;
-use omniad_acquire::pipeline;
-use omniad_acquire::reconstruct::run::Silent;
-use omniad_acquire::input::recording::RecordingSet;
-use omniad_acquire::synth::{truth_model, ObjectSpec, SynthObject};
-use omniad_acquire::input::state_csv::read_states;
+use crate::reconstruct::filter::FilterConfig;
+use crate::pipeline;
+use crate::reconstruct::run::Silent;
+use crate::input::recording::RecordingSet;
+use crate::synth::{truth_model, ObjectSpec, SynthObject};
+use crate::input::state_csv::read_states;
 use std::path::Path;
 
-fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let args: Vec<String> = std::env::args().collect();
-    let dir = Path::new(
-        args.get(1)
-            .ok_or("usage: diag SET plate|box|zero [scale]")?,
-    );
+/// The diagnostics of the set in `dir` (with `truth/`) reconstructed
+/// with `model` (`plate`, `box`, `zero` or `fit`), the unexplained
+/// wrench's walk, the white noise and the initial bias scaled by `walk`,
+/// `white` and `bias`.
+pub fn run(
+    dir: &Path,
+    model_name: &str,
+    [scale, acc, bias]: [f64; 3],
+    knobs: &Knobs,
+    out: &mut dyn Write,
+) -> LabResult {
     let set = RecordingSet::load(dir)?;
-    let model = match args.get(2).map(String::as_str) {
+    let model = match Some(model_name) {
         Some("plate") => truth_model(&ObjectSpec::of(SynthObject::Plate), 8)?,
         Some("box") => truth_model(&ObjectSpec::of(SynthObject::Box), 8)?,
-        _ => omniad_acquire::fit::model::zero_model(&set.object, 8)?,
+        _ => crate::fit::model::zero_model(&set.object, 8)?,
     };
-    let scale: f64 = args.get(3).and_then(|s| s.parse().ok()).unwrap_or(1.0);
-    let mut noise = omniad_acquire::reconstruct::noise::initial_noise(&set);
+    let mut noise = crate::reconstruct::noise::initial_noise(&set);
     noise.force_walk *= scale;
     noise.torque_walk *= scale;
-    let acc: f64 = args.get(4).and_then(|s| s.parse().ok()).unwrap_or(1.0);
     noise.accel *= acc;
     noise.angular_accel *= acc;
     let mut fc = FilterConfig::default();
-    if let Some(r) = std::env::var("RELIN").ok().and_then(|s| s.parse().ok()) {
+    if let Some(r) = knobs.relinearise {
         fc.relinearise = r;
     }
-    if let Ok(w) = std::env::var("MIRROR_WINDOW") {
-        fc.mirror_window = w.parse()?;
+    if let Some(w) = knobs.mirror_window {
+        fc.mirror_window = w;
     }
-    let bias: f64 = args.get(5).and_then(|s| s.parse().ok()).unwrap_or(1.0);
-    let rec = if args.get(2).map(String::as_str) == Some("fit") {
+    let rec = if model_name == "fit" {
         let mut cfg = pipeline::FitConfig::default();
-        if let Ok(w) = std::env::var("MIRROR_WINDOW") {
-            cfg.filter.mirror_window = w.parse()?;
+        if let Some(w) = knobs.mirror_window {
+            cfg.filter.mirror_window = w;
         }
-        if let Some(r) = std::env::var("RELIN").ok().and_then(|s| s.parse().ok()) {
+        if let Some(r) = knobs.relinearise {
             cfg.filter.relinearise = r;
         }
-        let out = pipeline::fit(&set, &cfg, &Silent)?;
-        if let Some(r) = std::env::var("RELIN_FINAL")
-            .ok()
-            .and_then(|s| s.parse().ok())
-        {
+        let fit = pipeline::fit(&set, &cfg, &Silent)?;
+        if let Some(r) = knobs.relinearise_final {
             cfg.filter.relinearise = r;
         }
-        let mut noise = pipeline::final_noise(&set, &out, &cfg)?;
-        println!("final noise {noise:?}");
+        let mut noise = pipeline::final_noise(&set, &fit, &cfg)?;
+        say!(out, "final noise {noise:?}");
         noise.force_walk *= scale;
         noise.torque_walk *= scale;
         noise.accel *= acc;
         noise.angular_accel *= acc;
-        omniad_acquire::reconstruct::run::refine(
+        crate::reconstruct::run::refine(
             &set,
-            &out.model,
+            &fit.model,
             noise,
             &cfg.filter,
-            &out.reconstruction,
+            &fit.reconstruction,
             &Silent,
         )?
     } else if (bias - 1.0).abs() < 1e-12 {
-        omniad_acquire::reconstruct::run::reconstruct(&set, &model, noise, &fc, &Silent)?
+        crate::reconstruct::run::reconstruct(&set, &model, noise, &fc, &Silent)?
     } else {
         let body = omniad_core::RigidBody::new(set.object.mass, set.object.inertia)
             .map_err(|e| format!("{e}"))?;
@@ -84,10 +86,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             ..FilterConfig::default()
         };
         config.pixel_noise = set.camera.as_ref().map(|c| c.pixel_noise).unwrap_or(1.0);
-        let filter = omniad_acquire::reconstruct::filter::Filter {
-            process: omniad_acquire::reconstruct::process::Process {
+        let filter = crate::reconstruct::filter::Filter {
+            process: crate::reconstruct::process::Process {
                 body,
-                environment: omniad_acquire::reconstruct::run::environment(&set),
+                environment: crate::reconstruct::run::environment(&set),
                 model: &model,
                 accel_noise: noise.accel,
                 angular_accel_noise: noise.angular_accel,
@@ -135,10 +137,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             let a = st.orientation.angle_to(&q);
             ang += a * a;
             last_ang = a;
-            if std::env::var("TAKE").ok().as_deref() == Some(take.name.as_str())
+            if knobs.take.as_deref() == Some(take.name.as_str())
                 && n.is_multiple_of(3)
             {
-                println!(
+                say!(out, 
                     "  t {t:.3} ang {:.1} d {:.3} {:.3} {:.3}",
                     a.to_degrees(),
                     d.x,
@@ -154,7 +156,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         tn += n;
         let m = mean / nf * 100.0;
         let r = (sq / nf).map(f64::sqrt) * 100.0;
-        println!(
+        say!(out, 
             "{:8} mean cam [{:6.2} {:6.2} {:6.2}] cm  rms [{:5.2} {:5.2} {:5.2}] cm  ang {:5.2} deg (end {:5.1})  {:?}",
             take.name,
             m.x,
@@ -168,7 +170,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             s.stats
         );
     }
-    println!(
+    say!(out, 
         "total: position RMS {:.2} cm, orientation RMS {:.2} deg",
         (tp / tn as f64).sqrt() * 100.0,
         (ta / tn as f64).sqrt().to_degrees()

@@ -4,41 +4,42 @@
 //! flags), tries dropping the take ends, reconstructs the set again with the
 //! final model and with the model fitted to the true states (and refits
 //! each reconstruction), and removes each take's speed scale:
-//! `cargo run --release -p omniad-acquire --example mixfit -- SET`.
-use omniad_acquire::reconstruct::forces::{ForceStats, Sample};
-use omniad_acquire::fit::model::zero_model;
-use omniad_acquire::pipeline::{self, FitConfig};
-use omniad_acquire::reconstruct::run::Silent;
-use omniad_acquire::input::recording::RecordingSet;
-use omniad_acquire::synth::truth::{fitted_directions, force_error, read_coefficients, true_trajectories};
+//! `omniad lab mixfit SET`.
+use super::{say, LabResult};
+use std::io::Write;
+use crate::reconstruct::forces::{ForceStats, Sample};
+use crate::fit::model::zero_model;
+use crate::pipeline::{self, FitConfig};
+use crate::reconstruct::run::Silent;
+use crate::input::recording::RecordingSet;
+use crate::synth::truth::{fitted_directions, force_error, read_coefficients, true_trajectories};
 use std::collections::HashMap;
 use std::path::Path;
 
-fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let args: Vec<String> = std::env::args().collect();
-    let dir = Path::new(args.get(1).ok_or("usage: mixfit SET")?);
+/// The mixed-frames study of the set in `dir` (with `truth/`).
+pub fn run(dir: &Path, out: &mut dyn Write) -> LabResult {
     let set = RecordingSet::load(dir)?;
     let cfg = FitConfig::default();
-    let out = pipeline::fit(&set, &cfg, &Silent)?;
+    let fit = pipeline::fit(&set, &cfg, &Silent)?;
     let truth_states = true_trajectories(dir, &set)?;
     let mut st = ForceStats::default();
-    let tframes = omniad_acquire::reconstruct::run::samples(&set, &truth_states, &mut st);
+    let tframes = crate::reconstruct::run::samples(&set, &truth_states, &mut st);
     let tmap = by_frame(&tframes);
     let truth = read_coefficients(&dir.join("truth/coefficients.csv"))?;
     let base = zero_model(&set.object, cfg.degree)?;
     let dirs = fitted_directions(&tframes);
-    let report = |label: &str, frames: &[Sample]| -> Result<(), Box<dyn std::error::Error>> {
+    let report = |out: &mut dyn Write, label: &str, frames: &[Sample]| -> LabResult {
         let m = pipeline::fit_samples(&base, frames, &set, &cfg)?;
         let (e, n) = force_error(&m, &truth, &dirs, 20, 15f64.to_radians());
-        println!("{label}: C_F {:.2} % over {n}", e * 100.0);
+        say!(out, "{label}: C_F {:.2} % over {n}", e * 100.0);
         Ok(())
     };
-    report("reconstructed", &out.samples)?;
-    report("truth", &tframes)?;
-    let mix = |f: fn(&Sample, &Sample) -> Sample| paired(&out.samples, &tmap, f);
-    report("rec force, true V/Ω", &mix(their_velocities))?;
-    report("true force, rec V/Ω", &mix(their_forces))?;
-    report(
+    report(out, "reconstructed", &fit.samples)?;
+    report(out, "truth", &tframes)?;
+    let mix = |f: fn(&Sample, &Sample) -> Sample| paired(&fit.samples, &tmap, f);
+    report(out, "rec force, true V/Ω", &mix(their_velocities))?;
+    report(out, "true force, rec V/Ω", &mix(their_forces))?;
+    report(out, 
         "true all, rec flags/cov",
         &mix(|s, t| their_forces(&their_velocities(s, t), t)),
     )?;
@@ -49,7 +50,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .map(|(i, t)| (i, t.epochs.len()))
         .collect();
     for (lo, hi) in [(1usize, 10usize), (0, 9), (1, 9), (2, 8)] {
-        let f: Vec<Sample> = out
+        let f: Vec<Sample> = fit
             .samples
             .iter()
             .filter(|s| {
@@ -59,40 +60,40 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             })
             .copied()
             .collect();
-        report(&format!("tenths {lo}..{hi}"), &f)?;
+        report(out, &format!("tenths {lo}..{hi}"), &f)?;
     }
     // Reconstruction with the model fitted to the true states.
     let model_t = pipeline::fit_samples(&base, &tframes, &set, &cfg)?;
-    let noise = pipeline::final_noise(&set, &out, &cfg)?;
+    let noise = pipeline::final_noise(&set, &fit, &cfg)?;
     let mut recs = Vec::new();
     let n = model_t.coeff_count();
     let mut final_alpha = model_t.clone();
-    let mut true_alpha = out.model.clone();
+    let mut true_alpha = fit.model.clone();
     for i in 0..3 {
         for k in 0..n {
-            final_alpha.set_alpha(i, k, out.model.alpha(i, k).unwrap_or(0.0))?;
+            final_alpha.set_alpha(i, k, fit.model.alpha(i, k).unwrap_or(0.0))?;
             true_alpha.set_alpha(i, k, model_t.alpha(i, k).unwrap_or(0.0))?;
         }
     }
     for (label, m) in [
-        ("final model", &out.model),
+        ("final model", &fit.model),
         ("true-state model", &model_t),
         ("final alpha, true-state beta/D", &final_alpha),
         ("true-state alpha, final beta/D", &true_alpha),
     ] {
-        let rec = omniad_acquire::reconstruct::run::refine(&set, m, noise, &cfg.filter, &out.reconstruction, &Silent)?;
-        let mut total = omniad_acquire::synth::truth::StateError::default();
+        let rec = crate::reconstruct::run::refine(&set, m, noise, &cfg.filter, &fit.reconstruction, &Silent)?;
+        let mut total = crate::synth::truth::StateError::default();
         for (take, s) in set.takes.iter().zip(&rec) {
-            let t = omniad_acquire::input::state_csv::read_states(
+            let t = crate::input::state_csv::read_states(
                 &dir.join("truth").join(format!("{}.csv", take.name)),
             )?;
-            total.add(&omniad_acquire::synth::truth::state_error(s, &t));
+            total.add(&crate::synth::truth::state_error(s, &t));
         }
         let mut st = ForceStats::default();
-        let frames = omniad_acquire::reconstruct::run::samples(&set, &rec, &mut st);
+        let frames = crate::reconstruct::run::samples(&set, &rec, &mut st);
         let refit = pipeline::fit_samples(&base, &frames, &set, &cfg)?;
         let (e, _) = force_error(&refit, &truth, &dirs, 20, 15f64.to_radians());
-        println!(
+        say!(out, 
             "reconstructed with the {label}: {:.2} cm, {:.2} deg; refit C_F {:.2} %",
             total.position_rms() * 100.0,
             total.angle_rms().to_degrees(),
@@ -103,11 +104,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     // Which part of those two reconstructions carries the model's pull.
     if let [with_final, with_true, ..] = recs.as_slice() {
         let key = by_frame(with_true);
-        report(
+        report(out, 
             "final-model forces, true-state-model V/Ω",
             &paired(with_final, &key, their_velocities),
         )?;
-        report(
+        report(out, 
             "true-state-model forces, final-model V/Ω",
             &paired(with_final, &key, |s, t| Sample {
                 force_cov: t.force_cov,
@@ -117,7 +118,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     }
     // Per-take speed scale of the reconstruction.
     let mut ratio: HashMap<usize, (f64, f64)> = HashMap::new();
-    for s in &out.samples {
+    for s in &fit.samples {
         if let Some(t) = tmap.get(&(s.take, s.index)) {
             let e = ratio.entry(s.take).or_default();
             e.0 += s.velocity.dot(&t.velocity);
@@ -127,9 +128,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut takes: Vec<_> = ratio.iter().map(|(k, (a, b))| (*k, a / b)).collect();
     takes.sort_by_key(|t| t.0);
     for (k, r) in &takes {
-        println!("take {k}: speed scale {r:.4}");
+        say!(out, "take {k}: speed scale {r:.4}");
     }
-    let scaled: Vec<Sample> = out
+    let scaled: Vec<Sample> = fit
         .samples
         .iter()
         .map(|s| {
@@ -140,10 +141,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             }
         })
         .collect();
-    report("rec, per-take speed scale removed", &scaled)?;
+    report(out, "rec, per-take speed scale removed", &scaled)?;
     // Errors by time since take start.
     let mut buckets = [(0.0f64, 0.0f64, 0usize); 10];
-    for s in &out.samples {
+    for s in &fit.samples {
         if let (Some(t), Some(&n)) = (tmap.get(&(s.take, s.index)), lens.get(&s.take)) {
             let b = (s.index * 10 / n.max(1)).min(9);
             buckets[b].0 += (s.force - t.force).norm_squared();
@@ -152,7 +153,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         }
     }
     for (i, (f, v, n)) in buckets.iter().enumerate() {
-        println!(
+        say!(out, 
             "tenth {i}: force err {:.4} N, vel err {:.4} m/s ({n})",
             (f / *n as f64).sqrt(),
             (v / *n as f64).sqrt()

@@ -5,26 +5,27 @@
 //! body-frame acceleration (added mass) or gravity `Rᵀg` (buoyancy, added
 //! mass), or `Rᵀg` alone.
 //! Prints the RMS residual (N) before and after each:
-//! `cargo run --release -p omniad-acquire --example missing_terms -- SET`.
+//! `omniad lab missing-terms SET`.
 
+use super::{say, LabResult};
+use std::io::Write;
 use nalgebra::{DMatrix, DVector};
-use omniad_acquire::reconstruct::forces::ForceStats;
-use omniad_acquire::fit::model::zero_model;
-use omniad_acquire::pipeline::{self, FitConfig};
-use omniad_acquire::input::recording::RecordingSet;
-use omniad_acquire::fit::residuals::frame_residuals;
-use omniad_acquire::synth::truth::true_trajectories;
+use crate::reconstruct::forces::ForceStats;
+use crate::fit::model::zero_model;
+use crate::pipeline::{self, FitConfig};
+use crate::input::recording::RecordingSet;
+use crate::fit::residuals::frame_residuals;
+use crate::synth::truth::true_trajectories;
 use std::path::Path;
 
-fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let args: Vec<String> = std::env::args().collect();
-    let dir = Path::new(args.get(1).ok_or("usage: missing_terms SET")?);
+/// The missing-terms residual analysis of the set in `dir` (with `truth/`).
+pub fn run(dir: &Path, out: &mut dyn Write) -> LabResult {
     let set = RecordingSet::load(dir)?;
     let smoothed = true_trajectories(dir, &set)?;
     let mut cfg = FitConfig::default();
     cfg.lsq.extensions = false;
     let mut stats = ForceStats::default();
-    let frames = omniad_acquire::reconstruct::run::samples(&set, &smoothed, &mut stats);
+    let frames = crate::reconstruct::run::samples(&set, &smoothed, &mut stats);
     let base = zero_model(&set.object, cfg.degree)?;
     let model = pipeline::fit_samples(&base, &frames, &set, &cfg)?;
     let res = frame_residuals(&model, &frames, set.world.air_density);
@@ -106,7 +107,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         }
         let sol = a.clone().svd(true, true).solve(&b, 1e-12)?;
         let after = (&b - &a * &sol).norm_squared();
-        println!(
+        say!(out, 
             "{name}: measured RMS {:.4}, OmniAD residual RMS {:.4}, after bilinear {:.4}",
             (tot_ref / n as f64).sqrt(),
             (tot_f / n as f64).sqrt(),
