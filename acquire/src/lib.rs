@@ -10,9 +10,9 @@
 //! holds the research measurements behind BENCHMARKS.md (`omniad lab`).
 
 pub mod error;
-pub mod lab;
 pub mod fit;
 pub mod input;
+pub mod lab;
 pub mod panel;
 pub(crate) mod parallel;
 pub mod pipeline;

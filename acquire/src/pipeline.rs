@@ -4,10 +4,10 @@
 mod provenance;
 
 use crate::error::{Error, Result};
-use crate::fit::extensions::ExtensionTest;
 use crate::fit::config::LsqConfig;
-use crate::fit::model::{with_raw, zero_model, FitSmoothing};
 use crate::fit::context::FitContext;
+use crate::fit::extensions::ExtensionTest;
+use crate::fit::model::{with_raw, zero_model, FitSmoothing};
 use crate::fit::residuals::{frame_residuals, rms_dimensional, summary};
 use crate::fit::weights::{add_velocity_spread, with_markers_only_covariances};
 use crate::input::recording::RecordingSet;

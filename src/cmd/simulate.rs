@@ -1,10 +1,10 @@
 //! `omniad simulate FILE --duration S`: one body through air, RK4 (§4.3).
 
-use omniad_acquire::input::state_csv::{self, TimeFormat};
 use super::common::read_coefficients;
 use anyhow::{bail, Context, Result};
 use clap::Args;
 use nalgebra::{Quaternion, UnitQuaternion, Vector3};
+use omniad_acquire::input::state_csv::{self, TimeFormat};
 use omniad_core::integrate::rk4_step;
 use omniad_core::rigid_body::AirForces;
 use omniad_core::{Environment, RigidBody, State};

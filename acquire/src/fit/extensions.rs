@@ -18,10 +18,10 @@
 //! (numbers fitted to noise would only add noise). Kept terms are then
 //! fitted jointly with alpha.
 
+use crate::fit::config::LsqConfig;
 use crate::fit::context::{sh_and_basis, FitContext};
 use crate::fit::effects::{regressor, Terms};
 use crate::fit::force::{fit_force_smoothed, force_row, normals_with, ForceRow};
-use crate::fit::config::LsqConfig;
 use crate::fit::normals::{per_take, total, Accumulate, Normals, Rows};
 use crate::fit::select::held_out_scores;
 use crate::fit::smoothing::{regularise, Smoothing};
@@ -47,9 +47,6 @@ pub const MIN_GAIN: f64 = 0.02;
 /// joint estimate: on a synthetic Magnus set of scale 0.02 it gave 0.0137,
 /// this 0.0196.)
 pub const COUPLING_RIDGE: f64 = 1e-6;
-
-
-
 
 /// One take's normal equations: `XᵀX`, `XᵀR` (one column per force
 /// component), `Σ|r|²`, frames.

@@ -5,10 +5,12 @@
 //! `(α¹, α², α³)`, each frame's three residuals weighted by the inverse of
 //! its reconstruction uncertainty ([`crate::fit::weights`]).
 
-use crate::fit::context::{sh_and_basis, FitContext};
 use crate::fit::config::LsqConfig;
+use crate::fit::context::{sh_and_basis, FitContext};
 use crate::fit::normals::{per_take, total, Normals, Rows};
-use crate::fit::smoothing::{cross_validated, regularise, Smoothing, DEFAULT_SMOOTHNESS_ORDER, SMOOTHNESS_ORDERS};
+use crate::fit::smoothing::{
+    cross_validated, regularise, Smoothing, DEFAULT_SMOOTHNESS_ORDER, SMOOTHNESS_ORDERS,
+};
 use crate::fit::thrust::enforce_no_thrust;
 use crate::fit::weights::{force_frames, force_weights};
 use crate::reconstruct::forces::Sample;
@@ -17,7 +19,7 @@ use omniad_core::sh::coeff_count;
 
 /// The force fit's normal equations per take and in total. Unknowns
 /// `(α¹, α², α³)`; frame k contributes the residuals `r_i = q L² Y(E)·α^i -
-/// F·E^i` (eqs. 5, 7) weighted by `Bᵀ W B` ([`force_weights`] in the basis
+/// F·E^i` (eqs. 5, 7) weighted by `Bᵀ W B` ([`crate::fit::weights::force_weights`] in the basis
 /// `B = [E¹ E²  E³]`), which couples the three components.
 fn force_normals(samples: &[Sample], ctx: &FitContext, degree: usize) -> (Vec<Normals>, Normals) {
     let frames = force_frames(samples);
@@ -61,7 +63,10 @@ pub(crate) fn normals_with(
     degree: usize,
 ) -> (Vec<Normals>, Normals) {
     let rows = ForceRows { ctx, degree };
-    let takes = per_take(frames.iter().zip(weights).map(|(s, w)| (s.take, (*s, w))), &rows);
+    let takes = per_take(
+        frames.iter().zip(weights).map(|(s, w)| (s.take, (*s, w))),
+        &rows,
+    );
     let total = total(&takes, rows.dim());
     (takes, total)
 }
@@ -132,8 +137,9 @@ fn force_penalty(takes: &[Normals], total: &Normals, cfg: &LsqConfig) -> Smoothi
     cross_validated(takes, held_out, total, &orders, fallback, cfg.degree)
 }
 
-/// Fits alpha (force), enforcing no thrust.
-pub fn fit_force(samples: &[Sample], ctx: &FitContext, cfg: &LsqConfig) -> [Vec<f64>; 3] {
+/// Fits alpha (force), enforcing no thrust (the tests' entry).
+#[cfg(test)]
+pub(crate) fn fit_force(samples: &[Sample], ctx: &FitContext, cfg: &LsqConfig) -> [Vec<f64>; 3] {
     fit_force_smoothed(samples, ctx, cfg).0
 }
 

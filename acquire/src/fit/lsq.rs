@@ -12,13 +12,15 @@
 //! and order `p` chosen for each of the two problems by leave-one-take-out
 //! cross-validation ([`crate::fit::select`]). D is projected onto positive definite
 //! matrices and β refitted; `C_F(E)·E < 0` (no thrust, §5) is enforced on a
-//! dense direction grid by penalty rows.
+//! dense direction grid by penalty rows. The pieces: [`crate::fit::force`],
+//! [`crate::fit::torque`], [`crate::fit::smoothing`], [`crate::fit::weights`],
+//! [`crate::fit::thrust`], [`crate::fit::extensions`].
 
 use crate::fit::config::LsqConfig;
+use crate::fit::context::FitContext;
 use crate::fit::model::{FitSmoothing, RawModel};
 use crate::fit::torque::fit_torque;
 use crate::reconstruct::forces::Sample;
-use crate::fit::context::FitContext;
 
 /// The full least-squares fit.
 pub fn fit(samples: &[Sample], ctx: &FitContext, cfg: &LsqConfig) -> RawModel {
@@ -44,13 +46,13 @@ pub(crate) mod tests {
     use crate::fit::context::sh_and_basis;
     use crate::fit::force::{fit_force, force_smoothing};
     use crate::fit::smoothing::SMOOTHNESS_ORDERS;
-    use nalgebra::Vector3;
-    use omniad_core::sh::coeff_count;
-    use omniad_core::spin_coupling::SpinCoupling;
     use crate::input::recording::TakeKind;
     use crate::synth::rng::Rng;
     use crate::synth::{truth_model, ObjectSpec, SynthObject};
+    use nalgebra::Vector3;
     use omniad_core::gravity_coupling::GravityCoupling;
+    use omniad_core::sh::coeff_count;
+    use omniad_core::spin_coupling::SpinCoupling;
 
     /// Exact samples of a known model at random directions and spins.
     pub(crate) fn samples(
@@ -237,8 +239,6 @@ pub(crate) mod tests {
         let chosen = force_smoothing(&takes_with_offsets(&truth, 0.5), &ctx, &cfg);
         assert!(SMOOTHNESS_ORDERS.contains(&chosen.order), "{chosen:?}");
     }
-
-
 
     #[test]
     fn never_fits_thrust() {

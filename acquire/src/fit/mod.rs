@@ -8,19 +8,19 @@
 //! paper's method; [`model`] assembles the core coefficients.
 
 pub mod config;
-pub mod context;
-pub mod coverage;
+pub(crate) mod context;
+pub(crate) mod coverage;
 pub(crate) mod damping;
 pub mod effects;
 pub mod extensions;
-pub mod force;
-pub mod lsq;
+pub(crate) mod force;
+pub(crate) mod lsq;
 pub mod model;
 pub(crate) mod normals;
-pub mod paper;
-pub mod residuals;
+pub(crate) mod paper;
+pub(crate) mod residuals;
 pub(crate) mod select;
 pub mod smoothing;
 pub(crate) mod thrust;
-pub mod torque;
-pub mod weights;
+pub(crate) mod torque;
+pub(crate) mod weights;

@@ -3,9 +3,9 @@
 
 use crate::error::{Error, Result};
 use crate::fit::smoothing::Smoothing;
-use omniad_core::spin_coupling::SpinCoupling;
 use crate::input::recording::Object;
 use omniad_core::coefficients::MassProperties;
+use omniad_core::spin_coupling::SpinCoupling;
 use omniad_core::Coefficients;
 
 /// The fitted numbers (body frame, non-dimensional).
@@ -31,9 +31,9 @@ pub struct RawModel {
 /// The smoothness penalties a least-squares fit used.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct FitSmoothing {
-    /// Of alpha ([`force_smoothing`]).
+    /// Of alpha ([`crate::fit::force::force_smoothing`]).
     pub force: Smoothing,
-    /// Of beta ([`torque_smoothing`]).
+    /// Of beta ([`crate::fit::torque::torque_smoothing`]).
     pub torque: Smoothing,
 }
 

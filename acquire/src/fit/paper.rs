@@ -3,21 +3,19 @@
 //! about the pole, SH coefficients by the convolution eqs. (11), (13) as a
 //! quadrature over the grid, D by least squares, eq. (12), on K2 (spins).
 
+use crate::fit::context::{sh_and_basis, FitContext};
 use crate::fit::coverage::{cell_centre, pole_frame};
 use crate::fit::damping::{matrix, omega_map, positive_definite};
-use crate::fit::context::{sh_and_basis, FitContext};
 use crate::fit::model::RawModel;
-use crate::reconstruct::forces::Sample;
 use crate::input::recording::TakeKind;
+use crate::reconstruct::forces::Sample;
 use nalgebra::{SMatrix, Vector3};
 use omniad_core::coefficients::COVERAGE_CELLS;
 use omniad_core::sh::coeff_count;
 
-
 /// Frames slower than this (m/s) are not used for `C*` (the paper's
 /// airspeeds range from 1 to 10 m/s, §3).
 pub const MIN_SPEED: f64 = 1.0;
-
 
 /// Inverse-distance weighted mean of the 3 nearest samples' values.
 fn three_nearest(

@@ -1,9 +1,9 @@
 //! No thrust (§5): `C_F(E)·E < 0` enforced on a dense direction grid by
 //! penalty rows.
 
+use crate::fit::config::LsqConfig;
 use crate::fit::context::sh_and_basis;
 use crate::fit::coverage::sphere_grid;
-use crate::fit::config::LsqConfig;
 use crate::fit::normals::solve;
 use nalgebra::{DMatrix, DVector};
 

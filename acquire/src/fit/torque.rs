@@ -2,9 +2,9 @@
 //! - ½ρL⁵ |Ω_k| D Ω_k`, one joint problem in (β, D); D is projected onto
 //! positive definite matrices and β refitted.
 
+use crate::fit::config::LsqConfig;
 use crate::fit::context::{sh_and_basis, FitContext};
 use crate::fit::damping::{matrix, omega_map, positive_definite};
-use crate::fit::config::LsqConfig;
 use crate::fit::normals::{per_take, solve, total, Normals, Rows};
 use crate::fit::smoothing::{cross_validated, regularise, Smoothing, SMOOTHNESS_ORDERS};
 use crate::reconstruct::forces::Sample;

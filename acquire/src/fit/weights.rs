@@ -22,7 +22,7 @@ pub(crate) fn force_frames(samples: &[Sample]) -> Vec<&Sample> {
 /// The error the smoother's covariance does not describe (SH truncation,
 /// unsteady air), as a fraction of the mean reconstruction variance (see
 /// [`force_weights`]). Small: the covariance is roughly calibrated (it
-/// over-states the error, `examples/forcenoise`), and C_F is insensitive
+/// over-states the error, `omniad lab forcenoise`), and C_F is insensitive
 /// below a few per cent (openbox-clean 6.80 / 6.78 / 6.77 % at 0.03 / 0.01
 /// / 0.001; 7.28 % at 1, 7.96 % unweighted; BENCHMARKS.md stop 11; with
 /// the markers-only covariances of stop 12, 5.91 / 5.86 / 5.84 % at 0.03 /
@@ -72,7 +72,10 @@ pub(crate) fn force_weights(frames: &[&Sample]) -> Vec<Matrix3<f64>> {
 /// that posterior they counted most, and the refinement confirmed its own
 /// model (through the camera's tilt the line-of-sight velocity sets |V|).
 /// Weighed by what the markers alone say, the refit can move away from it.
-pub(crate) fn with_markers_only_covariances(smoothed: &[Smoothed], first: &[Smoothed]) -> Vec<Smoothed> {
+pub(crate) fn with_markers_only_covariances(
+    smoothed: &[Smoothed],
+    first: &[Smoothed],
+) -> Vec<Smoothed> {
     smoothed
         .iter()
         .zip(first)
@@ -132,10 +135,10 @@ pub(crate) fn add_velocity_spread(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::input::recording::TakeKind;
-    use crate::synth::{truth_model, ObjectSpec, SynthObject};
     use crate::fit::lsq::tests::samples;
+    use crate::input::recording::TakeKind;
     use crate::reconstruct::filter::FilterStats;
+    use crate::synth::{truth_model, ObjectSpec, SynthObject};
     use omniad_core::State;
 
     fn frame(velocity: Vector3<f64>) -> Sample {

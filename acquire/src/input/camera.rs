@@ -4,8 +4,8 @@
 
 use crate::error::{Error, Result};
 use crate::input::validate::{finite, positive, rotation_from_rows};
-use serde::Deserialize;
 use nalgebra::{Matrix2, Matrix2x3, Matrix3, Vector2, Vector3};
+use serde::Deserialize;
 use std::path::Path;
 
 /// Points closer to the image plane than this (m, camera z) are not projected.

@@ -4,8 +4,8 @@
 //! [`RecordingSet::load`] reads the TOML and every take's track file
 //! ([`crate::input::tracks`]); every error names the file and the field or line.
 
-use crate::input::camera::{Camera, RawCamera};
 use crate::error::{Error, Result};
+use crate::input::camera::{Camera, RawCamera};
 use crate::input::object::{object, RawObject};
 use crate::input::tracks::{self, Epoch};
 use crate::input::validate::{finite, positive, unit_quaternion};
@@ -152,7 +152,6 @@ fn world(path: &Path, w: &RawWorld) -> Result<World> {
         air_viscosity: w.air_viscosity,
     })
 }
-
 
 fn take(
     dir: &Path,

@@ -5,14 +5,14 @@
 //! fitted C_F at every truth grid direction, as CSV).
 
 use super::Knobs;
-use crate::pipeline;
-use crate::reconstruct::run::Silent;
+use super::{say, LabResult};
 use crate::input::recording::RecordingSet;
 use crate::input::state_csv::read_states;
+use crate::pipeline;
+use crate::reconstruct::run::Silent;
 use crate::synth::truth::{
     fitted_directions, force_error, read_coefficients, state_error, StateError,
 };
-use super::{say, LabResult};
 use std::io::Write;
 use std::path::Path;
 use std::time::Instant;
@@ -28,7 +28,8 @@ pub fn run(dir: &Path, knobs: &Knobs, out: &mut dyn Write) -> LabResult {
     let fit = pipeline::fit(&set, &cfg, &Silent)?;
     let fit_time = start.elapsed().as_secs_f64();
     for (i, r) in fit.iterations.iter().enumerate() {
-        say!(out, 
+        say!(
+            out,
             "iteration {i}: residual {:.4} {:.4}  noise {:.3} {:.2}  {:?} {:?} {:.2}s",
             r.residual.0,
             r.residual.1,
@@ -57,7 +58,8 @@ pub fn run(dir: &Path, knobs: &Knobs, out: &mut dyn Write) -> LabResult {
             let truth = read_states(&dir.join("truth").join(format!("{}.csv", take.name)))?;
             let e = state_error(s, &truth);
             if label == "final-model" || knobs.per_take {
-                say!(out, 
+                say!(
+                    out,
                     "  {}: pos {:.2} cm, angle {:.2} deg",
                     take.name,
                     e.position_rms() * 100.0,
@@ -66,7 +68,8 @@ pub fn run(dir: &Path, knobs: &Knobs, out: &mut dyn Write) -> LabResult {
             }
             total.add(&e);
         }
-        say!(out, 
+        say!(
+            out,
             "{label}: position RMS {:.2} cm, orientation RMS {:.2} deg",
             total.position_rms() * 100.0,
             total.angle_rms().to_degrees()
@@ -75,13 +78,15 @@ pub fn run(dir: &Path, knobs: &Knobs, out: &mut dyn Write) -> LabResult {
     let truth = read_coefficients(&dir.join("truth/coefficients.csv"))?;
     let dirs = fitted_directions(&fit.samples);
     let (err, n) = force_error(&fit.model, &truth, &dirs, 20, 15f64.to_radians());
-    say!(out, 
+    say!(
+        out,
         "C_F relative L2 error {:.2} % over {n} grid directions",
         err * 100.0
     );
     for min in [60, 150, 400] {
         let (e, n) = force_error(&fit.model, &truth, &dirs, min, 15f64.to_radians());
-        say!(out, 
+        say!(
+            out,
             "  C_F over {n} directions with >= {min} frames: {:.2} %",
             e * 100.0
         );
@@ -95,11 +100,13 @@ pub fn run(dir: &Path, knobs: &Knobs, out: &mut dyn Write) -> LabResult {
         reference_length: set.object.reference_length,
         pole: set.object.pole,
     };
-    say!(out, 
+    say!(
+        out,
         "last fit's smoothing {:?}",
         crate::fit::force::force_smoothing(&fit.samples, &ctx, &cfg.lsq)
     );
-    say!(out, 
+    say!(
+        out,
         "last torque fit's smoothing {:?}",
         crate::fit::torque::torque_smoothing(&fit.samples, &ctx, &cfg.lsq)
     );
@@ -131,7 +138,8 @@ fn scale_check(
     let tt: f64 = pairs.iter().map(|(_, t)| t.norm_squared()).sum();
     let s = ct / cc;
     let left: f64 = pairs.iter().map(|(c, t)| (c * s - t).norm_squared()).sum();
-    say!(out, 
+    say!(
+        out,
         "  C_F best overall scale {s:.4}, error after it {:.2} %",
         (left / tt).sqrt() * 100.0
     );

@@ -4,13 +4,13 @@
 //! `omniad lab depth SET`.
 
 use super::{say, LabResult};
-use std::io::Write;
-use nalgebra::{Quaternion, SMatrix, SVector, UnitQuaternion, Vector3};
-use crate::reconstruct::measurement::marker_pixel;
 use crate::input::recording::RecordingSet;
-use crate::input::tracks::Observation;
 use crate::input::state_csv::read_states;
+use crate::input::tracks::Observation;
+use crate::reconstruct::measurement::marker_pixel;
+use nalgebra::{Quaternion, SMatrix, SVector, UnitQuaternion, Vector3};
 use omniad_core::State;
+use std::io::Write;
 use std::path::Path;
 
 /// The depth diagnostics of the set in `dir` (with `truth/`).
@@ -91,7 +91,7 @@ pub fn run(dir: &Path, out: &mut dyn Write) -> LabResult {
             n += 1;
         }
         let nf = n.max(1) as f64;
-        say!(out, 
+        say!(out,
             "{:8} reproj mean [{:5.2} {:5.2}] rms {:.2} px | per-frame LOS err mean {:6.2} rms {:5.2} cm, CRB rms {:5.2} cm, CRB of take mean {:4.2} cm ({n} frames)",
             take.name,
             res_sum.x / nres.max(1) as f64,

@@ -9,14 +9,14 @@
 
 use super::Knobs;
 use super::{say, LabResult};
-use std::io::Write;
-use nalgebra::{Quaternion, UnitQuaternion, Vector3};
-use crate::reconstruct::filter::FilterConfig;
-use crate::pipeline;
-use crate::reconstruct::run::Silent;
 use crate::input::recording::RecordingSet;
-use crate::synth::{truth_model, ObjectSpec, SynthObject};
 use crate::input::state_csv::read_states;
+use crate::pipeline;
+use crate::reconstruct::filter::FilterConfig;
+use crate::reconstruct::run::Silent;
+use crate::synth::{truth_model, ObjectSpec, SynthObject};
+use nalgebra::{Quaternion, UnitQuaternion, Vector3};
+use std::io::Write;
 use std::path::Path;
 
 /// The diagnostics of the set in `dir` (with `truth/`) reconstructed
@@ -137,10 +137,9 @@ pub fn run(
             let a = st.orientation.angle_to(&q);
             ang += a * a;
             last_ang = a;
-            if knobs.take.as_deref() == Some(take.name.as_str())
-                && n.is_multiple_of(3)
-            {
-                say!(out, 
+            if knobs.take.as_deref() == Some(take.name.as_str()) && n.is_multiple_of(3) {
+                say!(
+                    out,
                     "  t {t:.3} ang {:.1} d {:.3} {:.3} {:.3}",
                     a.to_degrees(),
                     d.x,
@@ -156,7 +155,7 @@ pub fn run(
         tn += n;
         let m = mean / nf * 100.0;
         let r = (sq / nf).map(f64::sqrt) * 100.0;
-        say!(out, 
+        say!(out,
             "{:8} mean cam [{:6.2} {:6.2} {:6.2}] cm  rms [{:5.2} {:5.2} {:5.2}] cm  ang {:5.2} deg (end {:5.1})  {:?}",
             take.name,
             m.x,
@@ -170,7 +169,8 @@ pub fn run(
             s.stats
         );
     }
-    say!(out, 
+    say!(
+        out,
         "total: position RMS {:.2} cm, orientation RMS {:.2} deg",
         (tp / tn as f64).sqrt() * 100.0,
         (ta / tn as f64).sqrt().to_degrees()

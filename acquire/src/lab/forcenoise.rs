@@ -6,16 +6,16 @@
 //! `omniad lab forcenoise SET`.
 
 use super::{say, LabResult};
-use std::io::Write;
-use nalgebra::Vector3;
-use crate::reconstruct::forces::ForceStats;
 use crate::fit::model::zero_model;
-use crate::pipeline::{self, FitConfig};
-use crate::reconstruct::run::Silent;
 use crate::input::recording::RecordingSet;
+use crate::pipeline::{self, FitConfig};
+use crate::reconstruct::forces::ForceStats;
+use crate::reconstruct::run::Silent;
 use crate::synth::rng::Rng;
 use crate::synth::truth::{fitted_directions, force_error, read_coefficients, true_trajectories};
+use nalgebra::Vector3;
 use std::collections::HashMap;
+use std::io::Write;
 use std::path::Path;
 
 /// The force-noise study of the set in `dir` (with `truth/`).
@@ -52,7 +52,8 @@ pub fn run(dir: &Path, out: &mut dyn Write) -> LabResult {
     calibration_report(&covs, out)?;
     let weight = set.object.mass * set.world.gravity.norm();
     let rms = (sq / n.max(1) as f64).sqrt();
-    say!(out, 
+    say!(
+        out,
         "{n} frames: force difference RMS {:.3} N ({:.1} % of M g), mean {:?} N",
         rms,
         100.0 * rms / weight,
@@ -61,7 +62,11 @@ pub fn run(dir: &Path, out: &mut dyn Write) -> LabResult {
     let truth = read_coefficients(&dir.join("truth/coefficients.csv"))?;
     let dirs = fitted_directions(&fit.samples);
     let (err, k) = force_error(&fit.model, &truth, &dirs, 20, 15f64.to_radians());
-    say!(out, "pipeline fit: C_F {:.2} % over {k} directions", err * 100.0);
+    say!(
+        out,
+        "pipeline fit: C_F {:.2} % over {k} directions",
+        err * 100.0
+    );
     let mut rng = Rng::new(1);
     let sigma = rms / 3f64.sqrt();
     let noisy: Vec<_> = true_frames
@@ -83,7 +88,10 @@ pub fn run(dir: &Path, out: &mut dyn Write) -> LabResult {
 
 /// RMS of the force difference along the true air velocity and across it,
 /// and of its 15-frame moving average (the time-correlated part).
-fn low_pass_report(diffs: &[(usize, Vector3<f64>, Vector3<f64>)], out: &mut dyn Write) -> LabResult {
+fn low_pass_report(
+    diffs: &[(usize, Vector3<f64>, Vector3<f64>)],
+    out: &mut dyn Write,
+) -> LabResult {
     let (mut along, mut across, mut low, mut n, mut m) = (0.0, 0.0, 0.0, 0usize, 0usize);
     for (i, (take, d, v)) in diffs.iter().enumerate() {
         let u = v.normalize();
@@ -99,7 +107,8 @@ fn low_pass_report(diffs: &[(usize, Vector3<f64>, Vector3<f64>)], out: &mut dyn 
             m += 1;
         }
     }
-    say!(out, 
+    say!(
+        out,
         "difference RMS along V {:.4} N, across V {:.4} N, 15-frame mean {:.4} N",
         (along / n.max(1) as f64).sqrt(),
         (across / n.max(1) as f64).sqrt(),
@@ -112,7 +121,10 @@ fn low_pass_report(diffs: &[(usize, Vector3<f64>, Vector3<f64>)], out: &mut dyn 
 /// RMS difference along each frame's most and least uncertain direction
 /// against the predicted sigmas, and RMS |difference| by quartile of
 /// predicted trace.
-fn calibration_report(covs: &[(Vector3<f64>, nalgebra::Matrix3<f64>)], out: &mut dyn Write) -> LabResult {
+fn calibration_report(
+    covs: &[(Vector3<f64>, nalgebra::Matrix3<f64>)],
+    out: &mut dyn Write,
+) -> LabResult {
     let (mut big, mut big_pred, mut small, mut small_pred) = (0.0, 0.0, 0.0, 0.0);
     let mut by_trace: Vec<(f64, f64)> = Vec::new();
     for (d, c) in covs {
@@ -125,7 +137,7 @@ fn calibration_report(covs: &[(Vector3<f64>, nalgebra::Matrix3<f64>)], out: &mut
         by_trace.push((c.trace(), d.norm_squared()));
     }
     let n = covs.len().max(1) as f64;
-    say!(out, 
+    say!(out,
         "most uncertain direction: RMS {:.4} N predicted {:.4} N; least: RMS {:.4} N predicted {:.4} N",
         (big / n).sqrt(),
         (big_pred / n).sqrt(),
@@ -136,7 +148,8 @@ fn calibration_report(covs: &[(Vector3<f64>, nalgebra::Matrix3<f64>)], out: &mut
     let q = by_trace.len() / 4;
     for (i, chunk) in by_trace.chunks(q.max(1)).take(4).enumerate() {
         let m = chunk.len().max(1) as f64;
-        say!(out, 
+        say!(
+            out,
             "trace quartile {i}: predicted RMS {:.4} N, actual RMS {:.4} N",
             (chunk.iter().map(|x| x.0).sum::<f64>() / m).sqrt(),
             (chunk.iter().map(|x| x.1).sum::<f64>() / m).sqrt()

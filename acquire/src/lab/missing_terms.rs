@@ -8,14 +8,14 @@
 //! `omniad lab missing-terms SET`.
 
 use super::{say, LabResult};
-use std::io::Write;
-use nalgebra::{DMatrix, DVector};
-use crate::reconstruct::forces::ForceStats;
 use crate::fit::model::zero_model;
-use crate::pipeline::{self, FitConfig};
-use crate::input::recording::RecordingSet;
 use crate::fit::residuals::frame_residuals;
+use crate::input::recording::RecordingSet;
+use crate::pipeline::{self, FitConfig};
+use crate::reconstruct::forces::ForceStats;
 use crate::synth::truth::true_trajectories;
+use nalgebra::{DMatrix, DVector};
+use std::io::Write;
 use std::path::Path;
 
 /// The missing-terms residual analysis of the set in `dir` (with `truth/`).
@@ -107,7 +107,8 @@ pub fn run(dir: &Path, out: &mut dyn Write) -> LabResult {
         }
         let sol = a.clone().svd(true, true).solve(&b, 1e-12)?;
         let after = (&b - &a * &sol).norm_squared();
-        say!(out, 
+        say!(
+            out,
             "{name}: measured RMS {:.4}, OmniAD residual RMS {:.4}, after bilinear {:.4}",
             (tot_ref / n as f64).sqrt(),
             (tot_f / n as f64).sqrt(),

@@ -6,14 +6,14 @@
 //! each reconstruction), and removes each take's speed scale:
 //! `omniad lab mixfit SET`.
 use super::{say, LabResult};
-use std::io::Write;
-use crate::reconstruct::forces::{ForceStats, Sample};
 use crate::fit::model::zero_model;
-use crate::pipeline::{self, FitConfig};
-use crate::reconstruct::run::Silent;
 use crate::input::recording::RecordingSet;
+use crate::pipeline::{self, FitConfig};
+use crate::reconstruct::forces::{ForceStats, Sample};
+use crate::reconstruct::run::Silent;
 use crate::synth::truth::{fitted_directions, force_error, read_coefficients, true_trajectories};
 use std::collections::HashMap;
+use std::io::Write;
 use std::path::Path;
 
 /// The mixed-frames study of the set in `dir` (with `truth/`).
@@ -39,7 +39,8 @@ pub fn run(dir: &Path, out: &mut dyn Write) -> LabResult {
     let mix = |f: fn(&Sample, &Sample) -> Sample| paired(&fit.samples, &tmap, f);
     report(out, "rec force, true V/Ω", &mix(their_velocities))?;
     report(out, "true force, rec V/Ω", &mix(their_forces))?;
-    report(out, 
+    report(
+        out,
         "true all, rec flags/cov",
         &mix(|s, t| their_forces(&their_velocities(s, t), t)),
     )?;
@@ -81,7 +82,14 @@ pub fn run(dir: &Path, out: &mut dyn Write) -> LabResult {
         ("final alpha, true-state beta/D", &final_alpha),
         ("true-state alpha, final beta/D", &true_alpha),
     ] {
-        let rec = crate::reconstruct::run::refine(&set, m, noise, &cfg.filter, &fit.reconstruction, &Silent)?;
+        let rec = crate::reconstruct::run::refine(
+            &set,
+            m,
+            noise,
+            &cfg.filter,
+            &fit.reconstruction,
+            &Silent,
+        )?;
         let mut total = crate::synth::truth::StateError::default();
         for (take, s) in set.takes.iter().zip(&rec) {
             let t = crate::input::state_csv::read_states(
@@ -93,7 +101,8 @@ pub fn run(dir: &Path, out: &mut dyn Write) -> LabResult {
         let frames = crate::reconstruct::run::samples(&set, &rec, &mut st);
         let refit = pipeline::fit_samples(&base, &frames, &set, &cfg)?;
         let (e, _) = force_error(&refit, &truth, &dirs, 20, 15f64.to_radians());
-        say!(out, 
+        say!(
+            out,
             "reconstructed with the {label}: {:.2} cm, {:.2} deg; refit C_F {:.2} %",
             total.position_rms() * 100.0,
             total.angle_rms().to_degrees(),
@@ -104,11 +113,13 @@ pub fn run(dir: &Path, out: &mut dyn Write) -> LabResult {
     // Which part of those two reconstructions carries the model's pull.
     if let [with_final, with_true, ..] = recs.as_slice() {
         let key = by_frame(with_true);
-        report(out, 
+        report(
+            out,
             "final-model forces, true-state-model V/Ω",
             &paired(with_final, &key, their_velocities),
         )?;
-        report(out, 
+        report(
+            out,
             "true-state-model forces, final-model V/Ω",
             &paired(with_final, &key, |s, t| Sample {
                 force_cov: t.force_cov,
@@ -153,7 +164,8 @@ pub fn run(dir: &Path, out: &mut dyn Write) -> LabResult {
         }
     }
     for (i, (f, v, n)) in buckets.iter().enumerate() {
-        say!(out, 
+        say!(
+            out,
             "tenth {i}: force err {:.4} N, vel err {:.4} m/s ({n})",
             (f / *n as f64).sqrt(),
             (v / *n as f64).sqrt()

@@ -5,15 +5,13 @@
 
 use super::Knobs;
 use super::{say, LabResult};
-use std::io::Write;
-use crate::reconstruct::forces::ForceStats;
 use crate::fit::model::zero_model;
-use crate::pipeline::{self, FitConfig};
 use crate::input::recording::RecordingSet;
 use crate::input::state_csv::read_states;
-use crate::synth::truth::{
-    fitted_directions, force_error, read_coefficients, true_trajectories,
-};
+use crate::pipeline::{self, FitConfig};
+use crate::reconstruct::forces::ForceStats;
+use crate::synth::truth::{fitted_directions, force_error, read_coefficients, true_trajectories};
+use std::io::Write;
 use std::path::Path;
 
 /// The fit from the true states of the set in `dir` (with `truth/`);
@@ -42,7 +40,8 @@ pub fn run(
     let dirs = fitted_directions(&frames);
     let (err, n) = force_error(&model, &truth, &dirs, 20, 15f64.to_radians());
     say!(out, "{stats:?}");
-    say!(out, 
+    say!(
+        out,
         "truth-state fit: C_F rel. L2 {:.2} % over {n} directions",
         err * 100.0
     );
@@ -63,7 +62,13 @@ pub fn run(
             angular_accel: first.angular_accel * ang,
             bias_time: first.bias_time,
         };
-        let rec = crate::reconstruct::run::reconstruct(&set, &model, noise, &cfg.filter, &crate::reconstruct::run::Silent)?;
+        let rec = crate::reconstruct::run::reconstruct(
+            &set,
+            &model,
+            noise,
+            &cfg.filter,
+            &crate::reconstruct::run::Silent,
+        )?;
         let mut total = crate::synth::truth::StateError::default();
         for (take, s) in set.takes.iter().zip(&rec) {
             let truth = read_states(&dir.join("truth").join(format!("{}.csv", take.name)))?;
@@ -73,7 +78,7 @@ pub fn run(
         let rec_frames = crate::reconstruct::run::samples(&set, &rec, &mut st);
         let refit = pipeline::fit_samples(&base, &rec_frames, &set, &cfg)?;
         let (e2, _) = force_error(&refit, &truth, &dirs, 20, 15f64.to_radians());
-        say!(out, 
+        say!(out,
             "walk x{ws} accel x{acc} ang x{ang}: position RMS {:.2} cm, orientation RMS {:.2} deg, refit C_F {:.2} %",
             total.position_rms() * 100.0,
             total.angle_rms().to_degrees(),

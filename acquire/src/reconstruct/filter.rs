@@ -18,11 +18,11 @@
 //! `Filter::mirror_test`; counted in [`FilterStats::mirror_switches`]).
 
 use crate::input::camera::Camera;
+use crate::input::recording::Object;
+use crate::input::tracks::{Epoch, MarkerSighting, Observation};
 use crate::reconstruct::measurement::{marker_pixel, pose_residual};
 use crate::reconstruct::process::Process;
-use crate::input::recording::Object;
 use crate::reconstruct::state::{boxminus, boxplus, Cov, Delta, FilterState};
-use crate::input::tracks::{Epoch, MarkerSighting, Observation};
 use nalgebra::{Matrix3, Matrix6, SMatrix, Vector3};
 use omniad_core::State;
 
@@ -448,7 +448,8 @@ impl Filter<'_> {
             let mut h = nalgebra::DMatrix::<f64>::zeros(n, crate::reconstruct::state::N);
             let mut nu = nalgebra::DVector::<f64>::zeros(n);
             for (i, (d, hi)) in rows.iter().enumerate() {
-                h.view_mut((2 * i, 0), (2, crate::reconstruct::state::N)).copy_from(hi);
+                h.view_mut((2 * i, 0), (2, crate::reconstruct::state::N))
+                    .copy_from(hi);
                 nu.rows_mut(2 * i, 2).copy_from(d);
             }
             let p = nalgebra::DMatrix::from_column_slice(

@@ -1,8 +1,8 @@
 //! Aerodynamic force reconstruction (§5): eqs. (9)-(10) by central
 //! differences of the smoothed states, and the stability enforcement.
 
-use crate::reconstruct::filter::Smoothed;
 use crate::input::recording::{Object, TakeKind};
+use crate::reconstruct::filter::Smoothed;
 use nalgebra::{Matrix3, Vector3};
 
 /// One reconstructed frame: velocities and the air's force and torque.

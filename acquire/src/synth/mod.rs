@@ -7,7 +7,7 @@
 //! `buoyancy` (displaced air, `SCALE` x ρ V g up) and `magnus`
 //! (`SCALE` x ½ρ L³ Ω × V, body frame).
 
-pub mod rng;
+pub(crate) mod rng;
 pub mod truth;
 pub mod write;
 

@@ -1,11 +1,11 @@
 //! Comparison with a synthetic set's `truth/` (never used by the fitter):
 //! state errors of a reconstruction and the coefficient error of a model.
 
-use crate::fit::coverage::count_within;
 use crate::error::{Error, Result};
-use crate::reconstruct::filter::Smoothed;
+use crate::fit::coverage::count_within;
 use crate::input::state_csv::read_states;
 use crate::input::tracks::{number, rows};
+use crate::reconstruct::filter::Smoothed;
 use nalgebra::{UnitQuaternion, Vector3};
 use omniad_core::Coefficients;
 use std::path::Path;

@@ -1,9 +1,9 @@
 //! Writing a synthetic recording set (see [`crate::synth`]) in the
 //! recording format, with `truth/`.
 
+use crate::error::{Error, Result};
 use crate::input::camera::Camera;
 use crate::input::state_csv::{self, TimeFormat};
-use crate::error::{Error, Result};
 use crate::synth::rng::Rng;
 use crate::synth::{random_start, simulate, truth_model, ObjectSpec, SynthConfig, SynthForces};
 use nalgebra::{Matrix3, UnitQuaternion, Vector2, Vector3};
@@ -197,7 +197,10 @@ fn marker_csv(
 }
 
 fn truth_csv(states: &[State<f64>], fps: f64) -> String {
-    let rows = states.iter().enumerate().map(|(k, st)| (k as f64 / fps, st));
+    let rows = states
+        .iter()
+        .enumerate()
+        .map(|(k, st)| (k as f64 / fps, st));
     state_csv::to_csv(rows, TimeFormat::Exact)
 }
 

@@ -13,8 +13,8 @@
 //! process Jacobians, which are only right about a good trajectory.
 
 use super::{finite, smooth, Filter, Posterior, Step};
-use crate::reconstruct::state::{boxminus, boxplus, Cov, FilterState};
 use crate::input::tracks::Epoch;
+use crate::reconstruct::state::{boxminus, boxplus, Cov, FilterState};
 
 use super::FilterStats;
 

@@ -2,9 +2,9 @@
 //! documentation of `filter` and `Filter::mirror_test`).
 
 use super::{finite, Filter, FilterStats, MIRROR_MARGIN, MIRROR_PLANARITY};
+use crate::input::tracks::{Epoch, MarkerSighting, Observation};
 use crate::reconstruct::measurement::marker_pixel;
 use crate::reconstruct::state::{Cov, FilterState};
-use crate::input::tracks::{Epoch, MarkerSighting, Observation};
 use nalgebra::{Matrix3, Rotation3, UnitQuaternion, Vector3};
 
 impl Filter<'_> {
