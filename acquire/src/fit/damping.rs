@@ -27,6 +27,23 @@ pub fn positive_definite(d: &Matrix3<f64>, floor: f64) -> Matrix3<f64> {
     eig.eigenvectors * Matrix3::from_diagonal(&clamped) * eig.eigenvectors.transpose()
 }
 
+/// The fitted `raw` `[d11, d22, d33, d12, d13, d23]` projected onto
+/// positive definite matrices, no eigenvalue below `relative_floor` times
+/// the largest (D must dissipate, §4), in the same layout.
+pub fn with_floor(raw: &[f64; 6], relative_floor: f64) -> [f64; 6] {
+    let d = positive_definite(&matrix(raw), 0.0);
+    let floor = relative_floor * d.symmetric_eigen().eigenvalues.max().max(1e-9);
+    let d = positive_definite(&matrix(raw), floor);
+    [
+        d[(0, 0)],
+        d[(1, 1)],
+        d[(2, 2)],
+        d[(0, 1)],
+        d[(0, 2)],
+        d[(1, 2)],
+    ]
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -5,7 +5,7 @@
 
 use crate::fit::context::{sh_and_basis, FitContext};
 use crate::fit::coverage::{cell_centre, pole_frame};
-use crate::fit::damping::{matrix, omega_map, positive_definite};
+use crate::fit::damping::{matrix, omega_map, with_floor};
 use crate::fit::model::RawModel;
 use crate::input::recording::TakeKind;
 use crate::reconstruct::forces::Sample;
@@ -88,17 +88,7 @@ fn fit_damping(samples: &[Sample], ctx: &FitContext) -> [f64; 6] {
         .map(|ch| ch.solve(&atb))
         .unwrap_or_else(SMatrix::zeros);
     let raw: [f64; 6] = std::array::from_fn(|i| x[i]);
-    let d = positive_definite(&matrix(&raw), 0.0);
-    let floor = 1e-3 * d.symmetric_eigen().eigenvalues.max().max(1e-9);
-    let d = positive_definite(&matrix(&raw), floor);
-    [
-        d[(0, 0)],
-        d[(1, 1)],
-        d[(2, 2)],
-        d[(0, 1)],
-        d[(0, 2)],
-        d[(1, 2)],
-    ]
+    with_floor(&raw, 1e-3)
 }
 
 /// The paper's fit.

@@ -1,10 +1,11 @@
-//! The torque fit (eqs. 6, 8): `T_k = Σ_i E^i_k q_k L³ Σ_lm β^i_lm Y_lm(E_k)
-//! - ½ρL⁵ |Ω_k| D Ω_k`, one joint problem in (β, D); D is projected onto
-//! positive definite matrices and β refitted.
+//! The torque fit (eqs. 6, 8): per frame
+//! `T_k = Σ_i E^i_k q_k L³ Σ_lm β^i_lm Y_lm(E_k) − ½ρL⁵ |Ω_k| D Ω_k`,
+//! one joint problem in (β, D); D is projected onto positive definite
+//! matrices and β refitted.
 
 use crate::fit::config::LsqConfig;
 use crate::fit::context::{sh_and_basis, FitContext};
-use crate::fit::damping::{matrix, omega_map, positive_definite};
+use crate::fit::damping::{omega_map, with_floor};
 use crate::fit::normals::{per_take, solve, total, Normals, Rows};
 use crate::fit::smoothing::{cross_validated, regularise, Smoothing, SMOOTHNESS_ORDERS};
 use crate::reconstruct::forces::Sample;
@@ -91,17 +92,7 @@ pub fn fit_torque(
     regularise(&mut ata, 3, cfg.degree, smoothing);
     let x = solve(&ata, &atb);
     let raw: [f64; 6] = std::array::from_fn(|i| x[3 * n + i]);
-    let d = positive_definite(&matrix(&raw), 0.0);
-    let floor = cfg.damping_floor * d.symmetric_eigen().eigenvalues.max().max(1e-9);
-    let d = positive_definite(&matrix(&raw), floor);
-    let six = [
-        d[(0, 0)],
-        d[(1, 1)],
-        d[(2, 2)],
-        d[(0, 1)],
-        d[(0, 2)],
-        d[(1, 2)],
-    ];
+    let six = with_floor(&raw, cfg.damping_floor);
     // Refit beta with D fixed: move the damping term to the right-hand side.
     let sub = ata.view((0, 0), (3 * n, 3 * n)).into_owned();
     let cross = ata.view((0, 3 * n), (3 * n, 6)).into_owned();

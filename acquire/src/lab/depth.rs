@@ -15,7 +15,7 @@ use std::path::Path;
 
 /// The depth diagnostics of the set in `dir` (with `truth/`).
 pub fn run(dir: &Path, out: &mut dyn Write) -> LabResult {
-    let set = RecordingSet::load(&dir)?;
+    let set = RecordingSet::load(dir)?;
     let cam = set.camera.as_ref().ok_or("no camera")?;
     let eye = -cam.rotation.transpose() * cam.translation;
     let sigma = cam.pixel_noise;
