@@ -188,33 +188,8 @@ pub fn fit(set: &RecordingSet, cfg: &FitConfig, progress: &dyn Progress) -> Resu
     let mut markers_only: Option<Vec<Smoothed>> = None;
     for it in 0..cfg.iterations {
         let start = Instant::now();
-        progress.stage(
-            &format!("iteration {}/{}: filter + smoother", it + 1, cfg.iterations),
-            set.takes.len(),
-        );
-        let mut filter = cfg.filter.clone();
-        if it.saturating_add(cfg.relinearised_iterations) < cfg.iterations {
-            filter.relinearise = 0;
-        }
-        let smoothed = reconstruct(set, &model, noise, &filter, progress)?;
-        let mut fstats = ForceStats::default();
-        // Frames are weighed by what the markers alone say about them.
-        let weighed = markers_only
-            .as_deref()
-            .map(|first| with_markers_only_covariances(&smoothed, first));
-        let source = weighed.as_deref().unwrap_or(&smoothed);
-        let mut frames = samples(set, source, &mut fstats);
-        // With a model, the velocity's error spreads the frame's residual
-        // too (nothing in the first iteration: the zero model has no slope).
-        add_velocity_spread(&mut frames, source, &model, set.world.air_density);
-        if markers_only.is_none() {
-            markers_only = Some(smoothed.clone());
-        }
-        if !frames.iter().any(|s| s.use_force) {
-            return Err(Error::Data(
-                "no usable frames: every frame failed the stability tests".into(),
-            ));
-        }
+        let (smoothed, frames, fstats) =
+            weighed_frames(set, &model, noise, cfg, it, &mut markers_only, progress)?;
         progress.stage(&format!("iteration {}/{}: fit", it + 1, cfg.iterations), 1);
         // A later iteration whose reconstruction diverged can give a
         // non-finite fit: it is rejected like a worse one (below).
@@ -277,6 +252,49 @@ pub fn fit(set: &RecordingSet, cfg: &FitConfig, progress: &dyn Progress) -> Resu
         reconstruction,
         samples,
     })
+}
+
+/// Iteration `it`'s reconstruction with `model` and `noise`, and its frames
+/// (eqs. 9-10) weighed by what the markers alone say about them: the
+/// first, model-free reconstruction's covariances (kept in `markers_only`,
+/// see [`with_markers_only_covariances`]) plus the velocity's spread
+/// through the model's slope.
+fn weighed_frames(
+    set: &RecordingSet,
+    model: &Coefficients<f64>,
+    noise: ProcessNoise,
+    cfg: &FitConfig,
+    it: usize,
+    markers_only: &mut Option<Vec<Smoothed>>,
+    progress: &dyn Progress,
+) -> Result<(Vec<Smoothed>, Vec<Sample>, ForceStats)> {
+    progress.stage(
+        &format!("iteration {}/{}: filter + smoother", it + 1, cfg.iterations),
+        set.takes.len(),
+    );
+    let mut filter = cfg.filter.clone();
+    if it.saturating_add(cfg.relinearised_iterations) < cfg.iterations {
+        filter.relinearise = 0;
+    }
+    let smoothed = reconstruct(set, model, noise, &filter, progress)?;
+    let mut fstats = ForceStats::default();
+    let weighed = markers_only
+        .as_deref()
+        .map(|first| with_markers_only_covariances(&smoothed, first));
+    let source = weighed.as_deref().unwrap_or(&smoothed);
+    let mut frames = samples(set, source, &mut fstats);
+    // With a model, the velocity's error spreads the frame's residual
+    // too (nothing in the first iteration: the zero model has no slope).
+    add_velocity_spread(&mut frames, source, model, set.world.air_density);
+    if markers_only.is_none() {
+        *markers_only = Some(smoothed.clone());
+    }
+    if !frames.iter().any(|s| s.use_force) {
+        return Err(Error::Data(
+            "no usable frames: every frame failed the stability tests".into(),
+        ));
+    }
+    Ok((smoothed, frames, fstats))
 }
 
 /// Largest non-dimensional residual of a usable first iteration: 100
