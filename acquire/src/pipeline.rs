@@ -335,7 +335,7 @@ fn diverged(report: &IterationReport, set: &RecordingSet, smoothed: &[Smoothed])
 /// reconstruction): the last kept iteration's, with the unexplained
 /// wrench's correlation time chosen by maximum innovation likelihood
 /// ([`most_likely_bias_time`]; the refinement iterations keep
-/// [`BIAS_TIME_SCALES`]`·τ`, whose slow decay bounds the depth drift that
+/// `BIAS_TIME_SCALES``·τ`, whose slow decay bounds the depth drift that
 /// would otherwise pass into the fitted forces).
 pub fn final_noise(
     set: &RecordingSet,

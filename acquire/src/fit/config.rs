@@ -1,4 +1,4 @@
-//! Settings of the least-squares fit ([`crate::fit::lsq`]).
+//! Settings of the least-squares fit (`crate::fit::lsq`).
 
 /// Settings of the least-squares fit.
 #[derive(Clone, Debug, PartialEq)]
@@ -8,7 +8,7 @@ pub struct LsqConfig {
     /// Smoothing weight relative to the mean data weight per coefficient
     /// (dimensionless; default 1e-3). The force and torque fits choose
     /// their own by cross-validation when `cross_validate` is set and there
-    /// are enough takes (see [`crate::fit::select`]).
+    /// are enough takes (see `crate::fit::select`).
     pub smoothing: f64,
     /// Order `p` of the force fit's smoothness penalty: SH degree `l` is
     /// penalised by `l(l+1) (l(l+1)/(N(N+1)))^(p-1)`, a Sobolev-type norm
@@ -17,7 +17,7 @@ pub struct LsqConfig {
     /// same range). Order 1 is the Dirichlet energy; higher orders hold
     /// the highest degrees down harder, where the reconstruction's noise
     /// would otherwise go. `None` (default): cross-validation chooses it
-    /// among [`SMOOTHNESS_ORDERS`] together with the weight (order 2 without
+    /// among `SMOOTHNESS_ORDERS` together with the weight (order 2 without
     /// cross-validation). The torque fit always chooses among all orders
     /// (order 1 without cross-validation).
     pub smoothness_order: Option<u32>,

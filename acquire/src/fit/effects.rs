@@ -1,6 +1,6 @@
 //! The model extensions' terms: effects beyond eqs. (5)-(6), each known
-//! only by its regressors. Adding an effect = implementing [`Effect`]
-//! and registering it in [`EFFECTS`] (and a switch in [`Terms`]); the
+//! only by its regressors. Adding an effect = implementing `Effect`
+//! and registering it in `EFFECTS` (and a switch in [`Terms`]); the
 //! held-out test and the joint fit with alpha
 //! ([`crate::fit::extensions`]) take their rows from here.
 
@@ -52,7 +52,7 @@ impl Effect for GravityEffect {
 /// Every registered effect, in regressor order (spin, gravity).
 pub(crate) const EFFECTS: [&dyn Effect; 2] = [&SpinEffect, &GravityEffect];
 
-/// A set of extension terms (one switch per entry of [`EFFECTS`]).
+/// A set of extension terms (one switch per entry of `EFFECTS`).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct Terms {
     /// The spin coupling (9 regressors per force component).

@@ -206,7 +206,7 @@ fn held_out(all: &[TakeNormals], terms: Terms) -> Option<(f64, f64, usize, usize
 }
 
 /// The held-out test of every candidate on `residual(s) = F*(s) -
-/// F_model(s)`; `None` when it cannot be run (fewer than [`crate::fit::select::MIN_TAKES`]
+/// F_model(s)`; `None` when it cannot be run (fewer than `crate::fit::select::MIN_TAKES`
 /// takes, no usable frames).
 pub fn test(
     samples: &[Sample],

@@ -1,10 +1,10 @@
 //! Fitting (§6): the coefficient model from reconstructed frames.
 //!
 //! Force, torque and every model extension supply rows to per-take normal
-//! equations ([`normals`]); one leave-one-take-out engine ([`select`])
+//! equations (`normals`); one leave-one-take-out engine (`select`)
 //! chooses the smoothing ([`smoothing`]) and the extensions
 //! ([`extensions`], whose terms are registered in [`effects`]); frames are
-//! weighted in [`weights`]. [`lsq`] is the default fit, [`paper`] the
+//! weighted in `weights`. `lsq` is the default fit, `paper` the
 //! paper's method; [`model`] assembles the core coefficients.
 
 pub mod config;

@@ -31,9 +31,9 @@ pub struct RawModel {
 /// The smoothness penalties a least-squares fit used.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct FitSmoothing {
-    /// Of alpha ([`crate::fit::force::force_smoothing`]).
+    /// Of alpha (`crate::fit::force::force_smoothing`).
     pub force: Smoothing,
-    /// Of beta ([`crate::fit::torque::torque_smoothing`]).
+    /// Of beta (`crate::fit::torque::torque_smoothing`).
     pub torque: Smoothing,
 }
 

@@ -1,6 +1,6 @@
 //! The smoothness penalty of the SH coefficients (Tikhonov on a
 //! Sobolev-type norm, §6 improved) and its leave-one-take-out choice of
-//! weight and order ([`crate::fit::select`]).
+//! weight and order (`crate::fit::select`).
 
 use crate::fit::normals::Normals;
 use nalgebra::DMatrix;
@@ -23,14 +23,14 @@ fn roughness(degree: usize, order: u32) -> Vec<f64> {
 }
 
 /// Orders of the smoothness penalty that cross-validation chooses among
-/// (see [`LsqConfig::smoothness_order`]).
+/// (see `LsqConfig::smoothness_order`).
 pub const SMOOTHNESS_ORDERS: [u32; 4] = [1, 2, 3, 4];
 
 /// The order used without cross-validation.
 pub const DEFAULT_SMOOTHNESS_ORDER: u32 = 2;
 
 /// The smoothness penalty: the smoothing weight `λ`, and the order `p` of
-/// [`LsqConfig::smoothness_order`].
+/// `LsqConfig::smoothness_order`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Smoothing {
     /// `λ`, relative to the mean data weight per coefficient.

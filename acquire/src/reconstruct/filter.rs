@@ -1,6 +1,6 @@
 //! Motion reconstruction (§5): an iterated extended Kalman filter with the
-//! OmniAD model as process model ([`Process`]) and a Rauch-Tung-Striebel
-//! smoother, in error-state form ([`crate::reconstruct::state`]).
+//! OmniAD model as process model (`Process`) and a Rauch-Tung-Striebel
+//! smoother, in error-state form (`crate::reconstruct::state`).
 //!
 //! Robustness: frames without observations are predicted only; a marker
 //! whose innovation fails a chi-square gate is ignored and counted; when

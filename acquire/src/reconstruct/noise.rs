@@ -16,7 +16,7 @@ pub struct ProcessNoise {
     /// Random walk of the unexplained torque, N m/√s.
     pub torque_walk: f64,
     /// Correlation time of the unexplained wrench, s (`f64::INFINITY`: a
-    /// random walk; see [`Process::bias_time`]).
+    /// random walk; see `Process::bias_time`).
     pub bias_time: f64,
 }
 

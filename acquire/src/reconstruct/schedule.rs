@@ -9,7 +9,7 @@ use crate::reconstruct::run::{filter, take_start};
 use omniad_core::Coefficients;
 
 /// The forward filter's innovation log-likelihood of every take's
-/// markers with `model` and `noise` ([`Filter::log_likelihood`]), summed.
+/// markers with `model` and `noise` (`Filter::log_likelihood`), summed.
 pub fn log_likelihood(
     set: &RecordingSet,
     model: &Coefficients<f64>,

@@ -9,7 +9,7 @@ use nalgebra::{Matrix3, Matrix6};
 /// epoch.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Posterior {
-    /// [`velocity_difference_cov`], world frame, (m/s)².
+    /// `velocity_difference_cov`, world frame, (m/s)².
     pub velocity_difference: Vec<Matrix3<f64>>,
     /// The block of the attitude error (rad, body frame) and the velocity
     /// (m/s, world frame), in that order: what [`body_velocity_cov`] is made
