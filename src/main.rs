@@ -48,6 +48,9 @@ enum Command {
     /// Real kite flight telemetry: fit, held-out residual, effects.
     #[command(subcommand)]
     Flight(cmd::flight::FlightCommand),
+    /// Research measurements behind BENCHMARKS.md (synthetic sets with truth/).
+    #[command(subcommand)]
+    Lab(cmd::lab::LabCommand),
 }
 
 fn main() -> ExitCode {
@@ -66,6 +69,7 @@ fn main() -> ExitCode {
         Some(Command::Synth(a)) => cmd::synth::run(a),
         Some(Command::ImportTracks(a)) => cmd::import::run(a),
         Some(Command::Flight(c)) => cmd::flight::run(c),
+        Some(Command::Lab(c)) => cmd::lab::run(c),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

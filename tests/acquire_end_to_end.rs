@@ -4,7 +4,8 @@
 //! the same loop for the spin-coupling extension.
 
 use nalgebra::{Quaternion, UnitQuaternion, Vector3};
-use omniad_acquire::truth::{force_error, read_coefficients, read_states};
+use omniad_acquire::input::state_csv::read_states;
+use omniad_acquire::synth::truth::{force_error, read_coefficients};
 use std::path::Path;
 use std::process::Command;
 

@@ -2,11 +2,13 @@
 //! outlier rows are gated and counted; hidden markers and empty frames are
 //! tolerated.
 
-use omniad_acquire::pipeline::{self, FitConfig, Silent};
-use omniad_acquire::recording::RecordingSet;
+use omniad_acquire::input::recording::RecordingSet;
+use omniad_acquire::input::state_csv::read_states;
+use omniad_acquire::pipeline::{self, FitConfig};
+use omniad_acquire::reconstruct::run::Silent;
+use omniad_acquire::synth::truth::{state_error, StateError};
+use omniad_acquire::synth::write::generate;
 use omniad_acquire::synth::{SynthConfig, SynthObject};
-use omniad_acquire::synth_write::generate;
-use omniad_acquire::truth::{read_states, state_error, StateError};
 
 fn small_set(dir: &std::path::Path, outliers: f64) {
     let cfg = SynthConfig {
@@ -21,7 +23,9 @@ fn small_set(dir: &std::path::Path, outliers: f64) {
 }
 
 /// Position (m) and orientation (deg) RMS of a fit's last reconstruction.
-fn fit_errors(dir: &std::path::Path) -> (f64, f64, omniad_acquire::filter::FilterStats) {
+fn fit_errors(
+    dir: &std::path::Path,
+) -> (f64, f64, omniad_acquire::reconstruct::filter::FilterStats) {
     let set = RecordingSet::load(dir).expect("load");
     let out = pipeline::fit(
         &set,
@@ -155,18 +159,28 @@ fn the_final_bias_time_is_the_most_likely_on_the_grid() {
         used.bias_time.is_finite(),
         "the second iteration has a model"
     );
-    let chosen =
-        pipeline::most_likely_bias_time(&set, &out.model, used, &cfg.filter).expect("likelihood");
+    let chosen = omniad_acquire::reconstruct::schedule::most_likely_bias_time(
+        &set,
+        &out.model,
+        used,
+        &cfg.filter,
+    )
+    .expect("likelihood");
     let ratio = chosen.bias_time / used.bias_time;
     assert!(
-        pipeline::BIAS_TIME_FRACTIONS
+        omniad_acquire::reconstruct::schedule::BIAS_TIME_FRACTIONS
             .iter()
             .any(|f| (f - ratio).abs() < 1e-12),
         "ratio {ratio}"
     );
-    let rms = |n: &pipeline::ProcessNoise| n.force_walk * (n.bias_time / 2.0).sqrt();
+    let rms = |n: &omniad_acquire::reconstruct::noise::ProcessNoise| {
+        n.force_walk * (n.bias_time / 2.0).sqrt()
+    };
     assert!((rms(&chosen) - rms(&used)).abs() <= 1e-12 * rms(&used));
-    let ll = |n| pipeline::log_likelihood(&set, &out.model, n, &cfg.filter).expect("ll");
+    let ll = |n| {
+        omniad_acquire::reconstruct::schedule::log_likelihood(&set, &out.model, n, &cfg.filter)
+            .expect("ll")
+    };
     let (best, start) = (ll(chosen), ll(used));
     assert!(best.is_finite() && best >= start, "{best} < {start}");
 }

@@ -1,4 +1,4 @@
-//! End-to-end tests of `omniad info`, `coeffs eval`, `simulate`, `panel`.
+//! End-to-end tests of `omniad info`, `coeffs eval`, `simulate`, `panel`, `lab`.
 
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -218,4 +218,36 @@ fn panel_regenerates_the_bundled_plate() {
         }
     }
     assert!((fresh.damping() - bundled.damping()).norm() < 1e-12);
+}
+
+#[test]
+fn lab_lists_its_measurements_and_names_a_missing_set() {
+    let out = omniad().args(["lab", "--help"]).output().expect("run");
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let help = text(&out.stdout);
+    for m in [
+        "accept",
+        "depth",
+        "diag",
+        "forcenoise",
+        "missing-terms",
+        "mixfit",
+        "truthfit",
+    ] {
+        assert!(help.contains(m), "{m} missing from {help}");
+    }
+    let dir = tempfile::tempdir().expect("tmp");
+    let missing = dir.path().join("no-such-set");
+    let out = omniad()
+        .args(["lab", "accept"])
+        .arg(&missing)
+        .args(["--iterations", "1"])
+        .output()
+        .expect("run");
+    assert!(!out.status.success());
+    assert!(
+        text(&out.stderr).contains("no-such-set"),
+        "{}",
+        text(&out.stderr)
+    );
 }

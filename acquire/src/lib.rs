@@ -1,35 +1,21 @@
 //! OmniAD acquisition (paper §5-6): recording sets -> coefficient files.
 //!
-//! Pipeline: [`recording`] + [`tracks`] (input; [`import`] for DLTdv and
-//! DeepLabCut) -> [`filter`] (iterated EKF + RTS smoother with
-//! [`process`] and [`measurement`], §5) -> [`forces`] (eqs. 9-10, stability
-//! enforcement) -> [`fit_lsq`] / [`fit_paper`] (§6) -> [`pipeline`]
-//! (iterative refinement, provenance with [`coverage`]). [`synth`] generates
-//! recording sets from a known model.
+//! The paper's stages, each depending only on those before it:
+//! [`input`] (recording sets, camera, tracks, importers, state CSVs) ->
+//! [`reconstruct`] (§5: iterated EKF + RTS smoother, process noise, eqs.
+//! 9-10) -> [`fit`] (§6: per-take normal equations, leave-one-take-out
+//! selection, the least-squares and the paper's fits) -> [`pipeline`]
+//! (the iterative refinement and its provenance). [`synth`] generates
+//! recording sets from a known model and compares with the truth; [`lab`]
+//! holds the research measurements behind BENCHMARKS.md (`omniad lab`).
 
-pub mod camera;
-pub mod coverage;
-pub mod damping;
 pub mod error;
-pub mod filter;
-pub mod fit_cv;
-pub mod fit_extensions;
-pub mod fit_lsq;
-pub mod fit_paper;
-pub mod forces;
-pub mod import;
-pub mod measurement;
-pub mod model;
-pub mod parallel;
+pub mod fit;
+pub mod input;
+pub mod lab;
+pub(crate) mod parallel;
 pub mod pipeline;
-pub mod process;
-pub mod recording;
-pub mod residuals;
-pub mod rng;
-pub mod state;
+pub mod reconstruct;
 pub mod synth;
-pub mod synth_write;
-pub mod tracks;
-pub mod truth;
 
 pub use error::{Error, Result};

@@ -1,6 +1,6 @@
 //! Independent work on all cores: the takes of a set are filtered
 //! independently (`crate::pipeline`), and cross-validation scores its
-//! candidates independently (`crate::fit_cv`).
+//! candidates independently (`crate::fit::select`).
 
 /// `work(i, &items[i])` for every item on up to
 /// [`std::thread::available_parallelism`] threads, results in index order.

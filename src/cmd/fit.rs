@@ -3,8 +3,9 @@
 use anyhow::{Context, Result};
 use clap::{Args, ValueEnum};
 use indicatif::{ProgressBar, ProgressStyle};
-use omniad_acquire::pipeline::{self, FitConfig, FitOutcome, Method, Progress};
-use omniad_acquire::recording::RecordingSet;
+use omniad_acquire::input::recording::RecordingSet;
+use omniad_acquire::pipeline::{self, FitConfig, FitOutcome, Method};
+use omniad_acquire::reconstruct::run::Progress;
 use serde_json::json;
 use std::path::PathBuf;
 use std::sync::Mutex;

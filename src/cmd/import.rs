@@ -1,10 +1,10 @@
 //! `omniad import-tracks`: DLTdv / DeepLabCut marker tracks to the recording
-//! format's `frame,marker,u,v` (see `omniad_acquire::import` for the
+//! format's `frame,marker,u,v` (see `omniad_acquire::input::import` for the
 //! conventions).
 
 use anyhow::{Context, Result};
 use clap::{Args, ValueEnum};
-use omniad_acquire::import::{self, ImportOptions};
+use omniad_acquire::input::import::{self, ImportOptions};
 use std::path::PathBuf;
 
 /// Tracker export format.
@@ -69,8 +69,7 @@ pub fn run(a: &ImportArgs) -> Result<()> {
         TrackFormat::Dlc => import::read_deeplabcut(&a.input, &o),
     }
     .map_err(|e| anyhow::anyhow!("{e}"))?;
-    std::fs::write(&a.output, import::to_marker_csv(&rows))
-        .with_context(|| format!("cannot write {}", a.output.display()))?;
+    import::write_marker_csv(&a.output, &rows).map_err(|e| anyhow::anyhow!("{e}"))?;
     println!("wrote {} rows to {}", rows.len(), a.output.display());
     Ok(())
 }

@@ -8,6 +8,7 @@ pub mod flight;
 pub mod import;
 pub mod info;
 pub mod kite;
+pub mod lab;
 pub mod panel;
 pub mod reconstruct;
 pub mod simulate;

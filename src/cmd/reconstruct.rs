@@ -3,8 +3,9 @@
 
 use anyhow::{Context, Result};
 use clap::Args;
-use omniad_acquire::pipeline::{self, FitConfig, Progress as _};
-use std::fmt::Write as _;
+use omniad_acquire::input::state_csv::{self, TimeFormat};
+use omniad_acquire::pipeline::{self, FitConfig};
+use omniad_acquire::reconstruct::run::Progress as _;
 use std::path::PathBuf;
 
 /// Arguments of `omniad reconstruct`.
@@ -37,7 +38,7 @@ pub fn run(a: &ReconstructArgs) -> Result<()> {
     let noise = pipeline::final_noise(&set, &outcome, &cfg).map_err(|e| anyhow::anyhow!("{e}"))?;
     bars.tick();
     bars.stage_final(set.takes.len());
-    let smoothed = pipeline::refine(
+    let smoothed = omniad_acquire::reconstruct::run::refine(
         &set,
         &outcome.model,
         noise,
@@ -50,22 +51,10 @@ pub fn run(a: &ReconstructArgs) -> Result<()> {
     std::fs::create_dir_all(&a.output)
         .with_context(|| format!("cannot create {}", a.output.display()))?;
     for (take, s) in set.takes.iter().zip(&smoothed) {
-        let mut text = String::from("t,x,y,z,qw,qx,qy,qz,vx,vy,vz,wx,wy,wz\n");
-        for (t, st) in s.times.iter().zip(&s.states) {
-            let (p, q, v, w) = (
-                st.position,
-                st.orientation.quaternion(),
-                st.velocity,
-                st.angular_velocity,
-            );
-            let _ = writeln!(
-                text,
-                "{t:.6},{},{},{},{},{},{},{},{},{},{},{},{},{}",
-                p.x, p.y, p.z, q.w, q.i, q.j, q.k, v.x, v.y, v.z, w.x, w.y, w.z
-            );
-        }
         let path = a.output.join(format!("{}.csv", take.name));
-        std::fs::write(&path, text).with_context(|| format!("cannot write {}", path.display()))?;
+        let rows = s.times.iter().copied().zip(&s.states);
+        state_csv::write_states(&path, rows, TimeFormat::Micros)
+            .with_context(|| format!("cannot write {}", path.display()))?;
     }
     println!("wrote {} takes to {}", smoothed.len(), a.output.display());
     Ok(())

@@ -5,6 +5,7 @@ use anyhow::{bail, Context, Result};
 use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
 use nalgebra::{Quaternion, UnitQuaternion, Vector3};
+use omniad_acquire::input::state_csv::{self, TimeFormat};
 use omniad_core::integrate::rk4_step;
 use omniad_core::rigid_body::AirForces;
 use omniad_core::{Environment, RigidBody, State};
@@ -171,7 +172,7 @@ pub fn run(a: &SimulateArgs) -> Result<()> {
         .csv
         .then(|| std::io::BufWriter::new(std::io::stdout().lock()));
     if let Some(out) = csv.as_mut() {
-        writeln!(out, "t,x,y,z,qw,qx,qy,qz,vx,vy,vz,wx,wy,wz")?;
+        out.write_all(state_csv::header().as_bytes())?;
         write_row(out, 0.0, &s)?;
     }
     let bar = progress(steps);
@@ -271,12 +272,9 @@ fn body_of(model: &omniad_core::Coefficients<f64>, a: &SimulateArgs) -> Result<R
     Ok(body)
 }
 
+/// One state-CSV row (the format's one writer) onto the output stream.
 fn write_row(out: &mut impl Write, t: f64, s: &State<f64>) -> std::io::Result<()> {
-    let q = s.orientation.quaternion();
-    let (p, v, w) = (s.position, s.velocity, s.angular_velocity);
-    writeln!(
-        out,
-        "{t:.6},{},{},{},{},{},{},{},{},{},{},{},{},{}",
-        p.x, p.y, p.z, q.w, q.i, q.j, q.k, v.x, v.y, v.z, w.x, w.y, w.z
-    )
+    let mut row = String::new();
+    state_csv::push_row(&mut row, t, s, TimeFormat::Micros);
+    out.write_all(row.as_bytes())
 }

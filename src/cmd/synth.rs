@@ -72,7 +72,7 @@ pub fn run(a: &SynthArgs) -> Result<()> {
         outliers: a.outliers,
         ..SynthConfig::default()
     };
-    omniad_acquire::synth_write::generate(&a.out, &cfg).map_err(|e| anyhow::anyhow!("{e}"))?;
+    omniad_acquire::synth::write::generate(&a.out, &cfg).map_err(|e| anyhow::anyhow!("{e}"))?;
     println!("wrote {}", a.out.display());
     Ok(())
 }

@@ -1,0 +1,90 @@
+//! Building a core [`Coefficients`] from fitted numbers, and the zero model
+//! of the first refinement iteration (§6: `A_0 = 0, B_0 = 0`).
+
+use crate::error::{Error, Result};
+use crate::fit::smoothing::Smoothing;
+use crate::input::recording::Object;
+use omniad_core::coefficients::MassProperties;
+use omniad_core::spin_coupling::SpinCoupling;
+use omniad_core::Coefficients;
+
+/// The fitted numbers (body frame, non-dimensional).
+#[derive(Clone, Debug, PartialEq)]
+pub struct RawModel {
+    /// `alpha[i][k]`, i = basis component, k = SH index.
+    pub alpha: [Vec<f64>; 3],
+    /// `beta[i][k]`.
+    pub beta: [Vec<f64>; 3],
+    /// `[d11, d22, d33, d12, d13, d23]`.
+    pub damping: [f64; 6],
+    /// The spin-coupling extension, when fitted and kept.
+    pub spin_coupling: Option<SpinCoupling<f64>>,
+    /// The gravity-coupling extension, when fitted and kept.
+    pub gravity_coupling: Option<omniad_core::gravity_coupling::GravityCoupling<f64>>,
+    /// The held-out test that decided on them (when it was run).
+    pub extension_test: Option<crate::fit::extensions::ExtensionTest>,
+    /// The smoothness penalties of the force and torque fits (least
+    /// squares only).
+    pub smoothing: Option<FitSmoothing>,
+}
+
+/// The smoothness penalties a least-squares fit used.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FitSmoothing {
+    /// Of alpha (`crate::fit::force::force_smoothing`).
+    pub force: Smoothing,
+    /// Of beta (`crate::fit::torque::torque_smoothing`).
+    pub torque: Smoothing,
+}
+
+fn model_error(e: omniad_core::ModelError) -> Error {
+    Error::Data(format!("cannot build the coefficient model: {e}"))
+}
+
+/// The zero model of degree `degree` for `object`.
+pub fn zero_model(object: &Object, degree: u8) -> Result<Coefficients<f64>> {
+    let mut m =
+        Coefficients::zeros(degree, object.pole, object.reference_length).map_err(model_error)?;
+    let name: String = object
+        .name
+        .chars()
+        .scan(0, |n, c| {
+            *n += c.len_utf8();
+            (*n <= omniad_core::coefficients::NAME_CAPACITY).then_some(c)
+        })
+        .collect();
+    m.set_name(&name).map_err(model_error)?;
+    let i = object.inertia;
+    m.body = Some(MassProperties {
+        mass: object.mass,
+        inertia: [
+            i[(0, 0)],
+            i[(1, 1)],
+            i[(2, 2)],
+            i[(0, 1)],
+            i[(0, 2)],
+            i[(1, 2)],
+        ],
+    });
+    Ok(m)
+}
+
+/// `raw` written into a copy of `base` (degree, pole, L, name, body).
+pub fn with_raw(base: &Coefficients<f64>, raw: &RawModel) -> Result<Coefficients<f64>> {
+    let mut m = base.clone();
+    for i in 0..3 {
+        for (k, v) in raw.alpha[i].iter().enumerate().take(m.coeff_count()) {
+            m.set_alpha(i, k, *v).map_err(model_error)?;
+        }
+        for (k, v) in raw.beta[i].iter().enumerate().take(m.coeff_count()) {
+            m.set_beta(i, k, *v).map_err(model_error)?;
+        }
+    }
+    m.set_damping(&crate::fit::damping::matrix(&raw.damping))
+        .map_err(model_error)?;
+    m.set_spin_coupling(raw.spin_coupling)
+        .map_err(model_error)?;
+    m.set_gravity_coupling(raw.gravity_coupling)
+        .map_err(model_error)?;
+    Ok(m)
+}

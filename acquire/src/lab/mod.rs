@@ -1,0 +1,106 @@
+//! The research measurements behind BENCHMARKS.md, run as `omniad lab
+//! <measurement> SET [flags]` (one function per measurement; the CLI only
+//! parses and prints). Most need a synthetic set's `truth/`.
+//!
+//! * [`accept`]: the acceptance numbers (state errors, C_F error);
+//! * [`depth`]: per-frame depth from the markers and its Cramér-Rao bound;
+//! * [`diag`]: reconstruction errors in the camera frame with a given model;
+//! * [`forcenoise`]: is the C_F error force noise or force bias?
+//! * [`missing_terms`]: residual analysis of terms the model lacks;
+//! * [`mixfit`]: forces or velocities — which carries the C_F error?
+//! * [`truthfit`]: the fit from the true states (fit error alone).
+
+pub mod accept;
+pub mod depth;
+pub mod diag;
+pub mod forcenoise;
+pub mod missing_terms;
+pub mod mixfit;
+pub mod truthfit;
+
+use crate::pipeline::{FitConfig, Method};
+use std::path::PathBuf;
+
+/// A measurement's result (its report goes to the writer it is given).
+pub type LabResult = std::result::Result<(), Box<dyn std::error::Error>>;
+
+/// `writeln!` to a lab report, returning its error.
+macro_rules! say {
+    ($out:expr, $($t:tt)*) => {
+        writeln!($out, $($t)*)?
+    };
+}
+pub(crate) use say;
+
+/// The knobs of the measurements: the pipeline's settings a study varies
+/// (each `None`/`false` keeps [`FitConfig::default`]'s).
+#[derive(Clone, Debug, Default)]
+pub struct Knobs {
+    /// Fit method (default least squares).
+    pub method: Option<Method>,
+    /// Refinement iterations (default 3).
+    pub iterations: Option<usize>,
+    /// `FitConfig::noise_floor`.
+    pub noise_floor: Option<f64>,
+    /// `FilterConfig::mirror_window` (0: no mirror-branch tests).
+    pub mirror_window: Option<usize>,
+    /// A fixed smoothing weight instead of the cross-validated one.
+    pub smoothing: Option<f64>,
+    /// The paper's model only (no extensions).
+    pub no_extensions: bool,
+    /// `FilterConfig::relinearise`.
+    pub relinearise: Option<usize>,
+    /// `FitConfig::relinearised_iterations`.
+    pub relinearised_iterations: Option<usize>,
+    /// `FilterConfig::relinearise` of the final reconstruction (diag).
+    pub relinearise_final: Option<usize>,
+    /// SH degree.
+    pub degree: Option<u8>,
+    /// `LsqConfig::smoothness_order`.
+    pub order: Option<u32>,
+    /// Per-take errors of the last iteration too (accept).
+    pub per_take: bool,
+    /// Where to write the per-direction C_F comparison (accept).
+    pub dump: Option<PathBuf>,
+    /// A take whose errors over time are printed (diag).
+    pub take: Option<String>,
+}
+
+impl Knobs {
+    /// The pipeline configuration these knobs give.
+    pub fn fit_config(&self) -> FitConfig {
+        let mut cfg = FitConfig::default();
+        if let Some(m) = self.method {
+            cfg.method = m;
+        }
+        if let Some(k) = self.iterations {
+            cfg.iterations = k;
+        }
+        if let Some(f) = self.noise_floor {
+            cfg.noise_floor = f;
+        }
+        if let Some(w) = self.mirror_window {
+            cfg.filter.mirror_window = w;
+        }
+        if let Some(r) = self.smoothing {
+            cfg.lsq.smoothing = r;
+            cfg.lsq.cross_validate = false;
+        }
+        if self.no_extensions {
+            cfg.lsq.extensions = false;
+        }
+        if let Some(r) = self.relinearise {
+            cfg.filter.relinearise = r;
+        }
+        if let Some(r) = self.relinearised_iterations {
+            cfg.relinearised_iterations = r;
+        }
+        if let Some(d) = self.degree {
+            cfg.degree = d;
+        }
+        if let Some(p) = self.order {
+            cfg.lsq.smoothness_order = Some(p);
+        }
+        cfg
+    }
+}

@@ -1,0 +1,129 @@
+//! Aerodynamic force reconstruction (§5): eqs. (9)-(10) by central
+//! differences of the smoothed states, and the stability enforcement.
+
+use crate::input::recording::{Object, TakeKind};
+use crate::reconstruct::filter::Smoothed;
+use nalgebra::{Matrix3, Vector3};
+
+/// One reconstructed frame: velocities and the air's force and torque.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Sample {
+    /// Take index in the set.
+    pub take: usize,
+    /// Epoch index in the take.
+    pub index: usize,
+    /// Time, s.
+    pub t: f64,
+    /// The take's kind (K1 drops, K2 spins).
+    pub kind: TakeKind,
+    /// Velocity relative to the air, body frame, m/s (`V* = Rᵀ v*`, no wind).
+    pub velocity: Vector3<f64>,
+    /// Angular velocity Ω*, body frame, rad/s.
+    pub angular_velocity: Vector3<f64>,
+    /// Aerodynamic force F*, body frame, N (eq. 9).
+    pub force: Vector3<f64>,
+    /// Aerodynamic torque T*, body frame, N m (eq. 10).
+    pub torque: Vector3<f64>,
+    /// Gravity in the body frame, `Rᵀg`, m/s² (for the gravity-coupling
+    /// extension).
+    pub gravity_body: Vector3<f64>,
+    /// Posterior covariance of `force` from the smoother, body frame, N²
+    /// (zero: unknown; see [`Smoothed::velocity_difference_cov`]). The
+    /// refinement gives its fits the model-free first reconstruction's
+    /// (`pipeline::fit`: frames are weighed by what the markers alone say).
+    pub force_cov: Matrix3<f64>,
+    /// Passes `F·V <= 0` (no thrust): used by every fit.
+    pub use_force: bool,
+    /// Passes `T·Ω <= 0` as well: used by the torque and damping fits.
+    pub use_torque: bool,
+}
+
+/// Counts of the stability enforcement (§5).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct ForceStats {
+    /// Frames with a reconstructed force (all but each take's first and last).
+    pub frames: usize,
+    /// Dropped entirely: `F*·V* > 0` (the air would add energy).
+    pub dropped_thrust: usize,
+    /// Dropped from the torque/damping fit only: `T*·Ω* > 0`.
+    pub dropped_spin_up: usize,
+    /// Dropped: a non-finite number in the reconstruction.
+    pub non_finite: usize,
+}
+
+/// Eqs. (9)-(10) on every interior frame of one smoothed take.
+///
+/// `F*_k = R_kᵀ { M (v_{k+1} - v_{k-1}) / (t_{k+1} - t_{k-1}) - M g }`,
+/// `T*_k = I (Ω_{k+1} - Ω_{k-1}) / (t_{k+1} - t_{k-1}) + Ω_k × I Ω_k`
+/// (the difference quotient is eq. 9-10's `/(2Δt)` for uniform frames).
+pub fn reconstruct(
+    take: usize,
+    kind: TakeKind,
+    s: &Smoothed,
+    object: &Object,
+    gravity: &Vector3<f64>,
+    stats: &mut ForceStats,
+) -> Vec<Sample> {
+    let mut out = Vec::with_capacity(s.states.len());
+    for k in 1..s.states.len().saturating_sub(1) {
+        let (Some(prev), Some(cur), Some(next)) =
+            (s.states.get(k - 1), s.states.get(k), s.states.get(k + 1))
+        else {
+            continue;
+        };
+        let (Some(&t0), Some(&t), Some(&t1)) =
+            (s.times.get(k - 1), s.times.get(k), s.times.get(k + 1))
+        else {
+            continue;
+        };
+        let h = t1 - t0;
+        if h.is_nan() || h <= 0.0 {
+            continue;
+        }
+        let accel = (next.velocity - prev.velocity) / h;
+        let force = cur
+            .orientation
+            .inverse_transform_vector(&((accel - gravity) * object.mass));
+        let omega = cur.angular_velocity;
+        let torque = object.inertia * (next.angular_velocity - prev.angular_velocity) / h
+            + omega.cross(&(object.inertia * omega));
+        let velocity = cur.orientation.inverse_transform_vector(&cur.velocity);
+        // Eq. (9) is linear in v_{k+1} - v_{k-1}: Σ_F = (M/h)² Rᵀ Σ_Δv R
+        // (the orientation's own uncertainty is neglected).
+        let rot = cur.orientation.to_rotation_matrix();
+        let force_cov = s
+            .velocity_difference_cov
+            .get(k)
+            .map_or_else(Matrix3::zeros, |c| {
+                rot.matrix().transpose() * c * rot.matrix() * (object.mass / h).powi(2)
+            });
+        let all = [force, torque, velocity, omega];
+        if all.iter().any(|v| v.iter().any(|x| !x.is_finite())) {
+            stats.non_finite += 1;
+            continue;
+        }
+        let use_force = force.dot(&velocity) <= 0.0;
+        let use_torque = use_force && torque.dot(&omega) <= 0.0;
+        stats.frames += 1;
+        if !use_force {
+            stats.dropped_thrust += 1;
+        } else if !use_torque {
+            stats.dropped_spin_up += 1;
+        }
+        out.push(Sample {
+            take,
+            index: k,
+            t,
+            kind,
+            velocity,
+            angular_velocity: omega,
+            force,
+            torque,
+            gravity_body: cur.orientation.inverse_transform_vector(gravity),
+            force_cov,
+            use_force,
+            use_torque,
+        });
+    }
+    out
+}

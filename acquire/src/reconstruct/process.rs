@@ -1,0 +1,192 @@
+//! The filter's process model f(s) (§4.3, §5): one RK4 step of eqs. (1)-(2)
+//! with the OmniAD air model (eqs. 5-6) plus the random-walk bias wrench of
+//! [`FilterState`], its Jacobian in error-state coordinates, and the
+//! process noise.
+
+use crate::reconstruct::state::{boxminus, boxplus, Cov, Delta, FilterState, N};
+use nalgebra::{Matrix3, SMatrix, Vector3};
+use omniad_core::integrate::rk4_step;
+use omniad_core::rigid_body::Forces;
+use omniad_core::{Coefficients, Environment, RigidBody, State, Wrench};
+
+/// Step of the finite-difference process Jacobian (error-state units).
+const FD_STEP: f64 = 1e-6;
+
+/// The physics the filter predicts with.
+pub struct Process<'a> {
+    /// Mass properties.
+    pub body: RigidBody<f64>,
+    /// Gravity, air density, wind.
+    pub environment: Environment<f64>,
+    /// Current OmniAD model (zero in the first refinement iteration, §6).
+    pub model: &'a Coefficients<f64>,
+    /// Per-step white acceleration noise, 1 sigma per world axis, m/s².
+    pub accel_noise: f64,
+    /// Per-step white angular acceleration noise, 1 sigma per body axis, rad/s².
+    pub angular_accel_noise: f64,
+    /// Bias force random walk, 1 sigma per body axis per √s, N/√s.
+    pub force_walk: f64,
+    /// Bias torque random walk, 1 sigma per body axis per √s, N m/√s.
+    pub torque_walk: f64,
+    /// Correlation time of the bias, s: the bias is a first-order
+    /// Gauss-Markov process that decays as `exp(-dt/τ_b)` with stationary
+    /// RMS `walk·sqrt(τ_b/2)`; `f64::INFINITY` makes it a random walk.
+    pub bias_time: f64,
+}
+
+/// The OmniAD wrench plus a constant body-frame bias.
+struct Biased<'a> {
+    model: &'a Coefficients<f64>,
+    environment: Environment<f64>,
+    force: Vector3<f64>,
+    torque: Vector3<f64>,
+}
+
+impl Forces<f64> for Biased<'_> {
+    fn wrench(&self, _t: f64, s: &State<f64>) -> Wrench<f64> {
+        // The model's own wrench and extensions (gravity coupling included).
+        let w = omniad_core::rigid_body::AirForces {
+            model: self.model,
+            environment: self.environment,
+        }
+        .wrench(0.0, s);
+        Wrench {
+            force: w.force + self.force,
+            torque: w.torque + self.torque,
+        }
+    }
+}
+
+impl Process<'_> {
+    /// `s_{k+1} = f(s_k)` over `dt` seconds (the bias is held through the
+    /// step, then decays by `exp(-dt/τ_b)`, see [`Self::bias_time`]).
+    pub fn step(&self, s: &FilterState, dt: f64) -> FilterState {
+        let forces = Biased {
+            model: self.model,
+            environment: self.environment,
+            force: s.force,
+            torque: s.torque,
+        };
+        let decay = self.bias_decay(dt);
+        FilterState {
+            body: rk4_step(&self.body, &self.environment, &forces, 0.0, dt, &s.body),
+            force: s.force * decay,
+            torque: s.torque * decay,
+        }
+    }
+
+    /// The bias's decay over `dt`, `exp(-dt/τ_b)` (1 for a random walk).
+    fn bias_decay(&self, dt: f64) -> f64 {
+        if self.bias_time.is_finite() && self.bias_time > 0.0 {
+            (-dt / self.bias_time).exp()
+        } else {
+            1.0
+        }
+    }
+
+    /// Variance added to the bias over `dt` per unit walk²: `dt` for a
+    /// random walk, `τ_b (1 - exp(-2 dt/τ_b)) / 2` for the Gauss-Markov bias
+    /// (the same to first order in `dt`).
+    fn bias_variance(&self, dt: f64) -> f64 {
+        let d = self.bias_decay(dt);
+        if d < 1.0 {
+            0.5 * self.bias_time * (1.0 - d * d)
+        } else {
+            dt
+        }
+    }
+
+    /// The next state and the error-state Jacobian `F = ∂(f(s ⊕ δ) ⊖ f(s))/∂δ`
+    /// by forward differences (numerical: f is an RK4 step).
+    pub fn step_with_jacobian(&self, s: &FilterState, dt: f64) -> (FilterState, Cov) {
+        let next = self.step(s, dt);
+        let mut f = Cov::zeros();
+        for j in 0..N {
+            let mut d = Delta::zeros();
+            d[j] = FD_STEP;
+            let col = boxminus(&self.step(&boxplus(s, &d), dt), &next) / FD_STEP;
+            f.set_column(j, &col);
+        }
+        (next, f)
+    }
+
+    /// Discrete process noise for a step of `dt` s: piecewise-constant white
+    /// acceleration (`σ² G Gᵀ`, `G = [dt²/2, dt]`) and the bias's driving
+    /// noise (`bias_variance`).
+    pub fn noise(&self, dt: f64) -> Cov {
+        let mut q = Cov::zeros();
+        let i3 = Matrix3::<f64>::identity();
+        let g = SMatrix::<f64, 2, 1>::new(0.5 * dt * dt, dt);
+        let gg = g * g.transpose();
+        for (pos, vel, sigma) in [(0, 6, self.accel_noise), (3, 9, self.angular_accel_noise)] {
+            let s2 = sigma * sigma;
+            for (a, ia) in [(0, pos), (1, vel)] {
+                for (b, ib) in [(0, pos), (1, vel)] {
+                    q.fixed_view_mut::<3, 3>(ia, ib)
+                        .copy_from(&(i3 * (gg[(a, b)] * s2)));
+                }
+            }
+        }
+        let v = self.bias_variance(dt);
+        q.fixed_view_mut::<3, 3>(12, 12)
+            .copy_from(&(i3 * (self.force_walk.powi(2) * v)));
+        q.fixed_view_mut::<3, 3>(15, 15)
+            .copy_from(&(i3 * (self.torque_walk.powi(2) * v)));
+        q
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::input::recording::Object;
+    use nalgebra::UnitQuaternion;
+
+    fn process(model: &Coefficients<f64>, bias_time: f64) -> Process<'_> {
+        Process {
+            body: RigidBody::new(0.05, Matrix3::identity() * 1e-3).expect("body"),
+            environment: Environment::standard(),
+            model,
+            accel_noise: 1.0,
+            angular_accel_noise: 1.0,
+            force_walk: 0.2,
+            torque_walk: 0.02,
+            bias_time,
+        }
+    }
+
+    #[test]
+    fn gauss_markov_bias_decays_to_its_stationary_variance() {
+        let object = Object {
+            name: "cube".into(),
+            mass: 0.05,
+            inertia: Matrix3::identity() * 1e-3,
+            reference_length: 0.3,
+            pole: Vector3::z(),
+            markers: Vec::new(),
+        };
+        let model = crate::fit::model::zero_model(&object, 2).expect("model");
+        let (dt, tau) = (0.01, 0.5);
+        let walk = process(&model, f64::INFINITY);
+        let gm = process(&model, tau);
+        let mut s = FilterState::new(State {
+            position: Vector3::zeros(),
+            orientation: UnitQuaternion::identity(),
+            velocity: Vector3::zeros(),
+            angular_velocity: Vector3::zeros(),
+        });
+        s.force = Vector3::new(1.0, 0.0, 0.0);
+        assert_eq!(walk.step(&s, dt).force, s.force);
+        let decayed = gm.step(&s, dt).force.x;
+        assert!((decayed - (-dt / tau).exp()).abs() < 1e-12);
+        // Random walk: walk² dt per step; Gauss-Markov: the same to first
+        // order, and the variance tends to walk² τ/2.
+        assert!((walk.noise(dt)[(12, 12)] - 0.04 * dt).abs() < 1e-15);
+        assert!((gm.noise(dt)[(12, 12)] / (0.04 * dt) - 1.0).abs() < 0.03);
+        let (mut v, d2) = (0.0, (-2.0 * dt / tau).exp());
+        for _ in 0..2000 {
+            v = d2 * v + gm.noise(dt)[(12, 12)];
+        }
+        assert!((v / (0.04 * tau / 2.0) - 1.0).abs() < 1e-6);
+    }
+}
