@@ -14,8 +14,8 @@ pub mod write;
 
 use crate::error::{Error, Result};
 use crate::synth::rng::Rng;
-use omniad_core::reference::panel::PanelModel;
 use nalgebra::{Matrix3, UnitQuaternion, Vector3};
+use omniad_core::reference::panel::PanelModel;
 use omniad_core::rigid_body::{AirForces, Forces};
 use omniad_core::{Coefficients, Environment, RigidBody, State, Wrench};
 
