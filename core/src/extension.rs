@@ -12,15 +12,21 @@ pub const EXTENSION_CAPACITY: usize = 112;
 /// Kinds of model extension known to this version. Unknown kinds found in
 /// a file are kept (and written back) but not evaluated.
 pub mod extension_kind {
-    /// Added mass (reserved for the residual-analysis work).
+    /// Added mass ([`crate::effect::EffectKind::AddedMass`]).
     pub const ADDED_MASS: u16 = 1;
-    /// Buoyancy of displaced air (reserved).
+    /// Buoyancy of displaced air ([`crate::effect::EffectKind::Buoyancy`]).
     pub const BUOYANCY: u16 = 2;
     /// A force bilinear in Ω and V ([`crate::spin_coupling`]).
     pub const SPIN_COUPLING: u16 = 3;
     /// A force linear in gravity seen from the body: buoyancy and added
     /// mass ([`crate::gravity_coupling`]).
     pub const GRAVITY_COUPLING: u16 = 4;
+    /// Rotational lift ([`crate::effect::EffectKind::RotationalLift`]).
+    pub const ROTATIONAL_LIFT: u16 = 5;
+    /// Propeller thrust ([`crate::effect::EffectKind::PropellerThrust`]).
+    pub const PROPELLER_THRUST: u16 = 6;
+    /// Linear (viscous) drag ([`crate::effect::EffectKind::LinearDrag`]).
+    pub const LINEAR_DRAG: u16 = 7;
 }
 
 /// A model extension: a term outside eqs. (5)-(6), stored as a tagged,

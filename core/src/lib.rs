@@ -42,6 +42,7 @@ pub mod aero;
 pub mod basis;
 pub mod coefficients;
 pub mod crc32;
+pub mod effect;
 pub mod error;
 pub mod extension;
 pub mod file;
