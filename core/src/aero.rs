@@ -2,6 +2,7 @@
 
 use crate::basis::vector_basis;
 use crate::coefficients::Coefficients;
+use crate::effect::EffectInputs;
 use crate::lanes::{LaneScalar, SimdCoefficients, SimdKernel};
 use crate::math::{lit, norm, Real};
 use nalgebra::Vector3;
@@ -107,10 +108,12 @@ impl<T: LaneScalar> Coefficients<T> {
     }
 
     /// [`Self::wrench`] plus the gravity coupling
-    /// ([`crate::gravity_coupling`]), which needs the attitude:
+    /// ([`crate::gravity_coupling`]), which needs the attitude, and the
+    /// named effects ([`crate::effect`], buoyancy needs the attitude too):
     /// `gravity_body` is `Rᵀg`, the gravity vector in the body frame, m/s².
     /// This is the whole air force of a model with every extension it
-    /// has. Like eqs. (5)-(6), a non-finite term adds nothing.
+    /// has, but for added mass's `-M_a dV/dt`, which the equations of
+    /// motion carry. Like eqs. (5)-(6), a non-finite term adds nothing.
     #[inline]
     pub fn wrench_in_gravity(
         &self,
@@ -124,6 +127,23 @@ impl<T: LaneScalar> Coefficients<T> {
             let f = g.force(gravity_body, air_density, self.reference_length());
             if crate::math::vector_is_finite(&f) {
                 w.force += f;
+            }
+        }
+        let inputs = EffectInputs {
+            velocity: *velocity,
+            angular_velocity: *angular_velocity,
+            gravity: *gravity_body,
+            // Added mass's -M_a dV/dt is carried by the equations of motion
+            // (`rigid_body::state_rate_with_added_mass`), not by the force.
+            velocity_rate: Vector3::zeros(),
+            air_density,
+            reference_length: self.reference_length(),
+        };
+        for effect in self.effects() {
+            let e = effect.wrench(&inputs);
+            if crate::math::vector_is_finite(&e.force) && crate::math::vector_is_finite(&e.torque) {
+                w.force += e.force;
+                w.torque += e.torque;
             }
         }
         w

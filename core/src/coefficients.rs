@@ -16,6 +16,7 @@ pub use crate::metadata::{
     NAME_CAPACITY, TEXT_CAPACITY,
 };
 
+use crate::effect::{Effect, EffectKind};
 use crate::gravity_coupling::GravityCoupling;
 use crate::lanes::{LaneScalar, SimdCoefficients};
 use crate::math::{is_positive_semidefinite, six_from_symmetric, symmetric_from_six};
@@ -52,7 +53,13 @@ pub struct Coefficients<T: LaneScalar> {
     spin_coupling: Option<SpinCoupling<T>>,
     /// The decoded gravity-coupling extension, if any (as `spin_coupling`).
     gravity_coupling: Option<GravityCoupling<T>>,
+    /// The decoded named effects ([`crate::effect`]), at most one of each
+    /// kind (as `spin_coupling`).
+    effects: heapless::Vec<Effect<T>, MAX_EFFECTS>,
 }
+
+/// Most named effects in one model: one of each kind.
+pub const MAX_EFFECTS: usize = EffectKind::ALL.len();
 
 impl<T: LaneScalar> Coefficients<T> {
     /// All-zero coefficients of the given degree, pole and reference length
@@ -73,6 +80,7 @@ impl<T: LaneScalar> Coefficients<T> {
             extensions: heapless::Vec::new(),
             spin_coupling: None,
             gravity_coupling: None,
+            effects: heapless::Vec::new(),
         })
     }
 
@@ -105,6 +113,7 @@ impl<T: LaneScalar> Coefficients<T> {
         self.extensions.clear();
         self.spin_coupling = None;
         self.gravity_coupling = None;
+        self.effects.clear();
         Ok(())
     }
 
@@ -187,8 +196,10 @@ impl<T: LaneScalar> Coefficients<T> {
     pub fn add_extension(&mut self, e: Extension) -> Result<(), ModelError> {
         let spin = SpinCoupling::from_extension(&e)?;
         let gravity = GravityCoupling::from_extension(&e)?;
+        let effect = Effect::from_extension(&e)?;
         if (spin.is_some() && self.spin_coupling.is_some())
             || (gravity.is_some() && self.gravity_coupling.is_some())
+            || effect.is_some_and(|f| self.effect(f.kind).is_some())
         {
             return Err(ModelError::DuplicateExtension(e.kind));
         }
@@ -201,6 +212,11 @@ impl<T: LaneScalar> Coefficients<T> {
         if gravity.is_some() {
             self.gravity_coupling = gravity;
         }
+        if let Some(f) = effect {
+            self.effects
+                .push(f)
+                .map_err(|_| ModelError::CapacityExceeded("effects"))?;
+        }
         Ok(())
     }
 
@@ -210,7 +226,7 @@ impl<T: LaneScalar> Coefficients<T> {
         match kind {
             extension_kind::SPIN_COUPLING => self.spin_coupling = None,
             extension_kind::GRAVITY_COUPLING => self.gravity_coupling = None,
-            _ => {}
+            tag => self.effects.retain(|f| f.kind.extension_kind() != tag),
         }
     }
 
@@ -232,6 +248,30 @@ impl<T: LaneScalar> Coefficients<T> {
             Some(e) => self.add_extension(e),
             None => Ok(()),
         }
+    }
+
+    /// The named effects the model has ([`crate::effect`]); the air
+    /// forces ([`crate::rigid_body::AirForces`]) add them and the equations
+    /// of motion carry added mass.
+    pub fn effects(&self) -> &[Effect<T>] {
+        &self.effects
+    }
+
+    /// The model's effect of `kind`, if any.
+    pub fn effect(&self, kind: EffectKind) -> Option<&Effect<T>> {
+        self.effects.iter().find(|f| f.kind == kind)
+    }
+
+    /// Sets (replacing one of the same kind) a named effect.
+    pub fn set_effect(&mut self, effect: Effect<T>) -> Result<(), ModelError> {
+        let ext = effect.to_extension()?;
+        self.remove_effect(effect.kind);
+        self.add_extension(ext)
+    }
+
+    /// Removes the effect of `kind`, if any.
+    pub fn remove_effect(&mut self, kind: EffectKind) {
+        self.remove_extensions(kind.extension_kind());
     }
 
     /// The spin-coupling force's tensor, if the model has one
@@ -364,6 +404,14 @@ impl<T: LaneScalar> Coefficients<T> {
             gravity_coupling: self
                 .gravity_coupling
                 .map(|g| GravityCoupling { g: g.g.map(c) }),
+            effects: self
+                .effects
+                .iter()
+                .map(|f| Effect {
+                    kind: f.kind,
+                    params: f.params.map(c),
+                })
+                .collect(),
         };
         for k in 0..self.coeff_count() {
             for set in 0..SETS {

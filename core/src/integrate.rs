@@ -1,7 +1,9 @@
 //! Pure fixed-step RK4 (§4.3: `s_{k+1} = f(s_k)`).
 
 use crate::math::Real;
-use crate::rigid_body::{state_rate, Environment, Forces, RigidBody, State, StateRate};
+use crate::rigid_body::{
+    state_rate, state_rate_with_added_mass, Environment, Forces, RigidBody, State, StateRate,
+};
 use nalgebra::{Quaternion, UnitQuaternion};
 
 /// `s + h ṡ`, with the quaternion advanced in its raw coordinates and
@@ -40,7 +42,14 @@ pub fn rk4_step<T: Real, F: Forces<T>>(
 ) -> State<T> {
     let g = &environment.gravity;
     let half = T::of_f64(0.5);
-    let rate = |tt: T, s: &State<T>| state_rate(body, g, s, &forces.wrench(tt, s));
+    let added = forces.added_mass();
+    let rate = |tt: T, s: &State<T>| {
+        let w = forces.wrench(tt, s);
+        match &added {
+            None => state_rate(body, g, s, &w),
+            Some(m) => state_rate_with_added_mass(body, environment, s, &w, m),
+        }
+    };
     let k1 = rate(t, state);
     let k2 = rate(t + dt * half, &advance(state, &k1, dt * half));
     let k3 = rate(t + dt * half, &advance(state, &k2, dt * half));

@@ -152,6 +152,13 @@ pub struct StateRate<T: Real> {
 pub trait Forces<T: Real> {
     /// The wrench on the body at time `t` (s) in state `state`, body frame.
     fn wrench(&self, t: T, state: &State<T>) -> Wrench<T>;
+
+    /// The air's added-mass tensor M_a (kg, body frame), if these forces
+    /// have one: it joins the body's mass in the equations of motion
+    /// ([`state_rate_with_added_mass`]).
+    fn added_mass(&self) -> Option<Matrix3<T>> {
+        None
+    }
 }
 
 /// No force at all (vacuum).
@@ -188,6 +195,12 @@ impl<T: LaneScalar> Forces<T> for AirForces<'_, T> {
             self.environment.air_density,
         )
     }
+
+    fn added_mass(&self) -> Option<Matrix3<T>> {
+        self.model
+            .effect(crate::effect::EffectKind::AddedMass)
+            .and_then(|e| e.added_mass())
+    }
 }
 
 /// Eqs. (1)-(2): `M v̇ = M g + R F`, `I Ω̇ = -Ω × I Ω + T`.
@@ -209,4 +222,35 @@ pub fn state_rate<T: Real>(
         velocity: accel,
         angular_velocity: alpha,
     }
+}
+
+/// Eqs. (1)-(2) with the air's added mass M_a (Kirchhoff; Lamb,
+/// *Hydrodynamics* §126) in a steady wind `wind` (world, m/s). With
+/// `U = Rᵀ(v - w)` the body-frame air velocity, the linear momentum
+/// balance in the body frame is
+/// `(M I + M_a) dU/dt = M Rᵀg + F - M Ω × U`,
+/// where `F` (body frame) already holds the effect's `-Ω × (M_a U)` and
+/// Munk moment ([`crate::effect::Effect::wrench`]); then
+/// `v̇ = R (dU/dt + Ω × U)`. Rotational added inertia is not modelled.
+/// A singular `M I + M_a` (impossible for PSD M_a) falls back to eq. (1).
+pub fn state_rate_with_added_mass<T: Real>(
+    body: &RigidBody<T>,
+    environment: &Environment<T>,
+    state: &State<T>,
+    wrench: &Wrench<T>,
+    added_mass: &Matrix3<T>,
+) -> StateRate<T> {
+    let mut rate = state_rate(body, &environment.gravity, state, wrench);
+    let u = state.air_velocity_body(&environment.wind);
+    let omega = state.angular_velocity;
+    let g_body = state
+        .orientation
+        .inverse_transform_vector(&environment.gravity);
+    let total = Matrix3::identity() * body.mass + added_mass;
+    let rhs = g_body * body.mass + wrench.force - omega.cross(&u) * body.mass;
+    if let Some(inv) = total.try_inverse() {
+        let du = inv * rhs;
+        rate.velocity = state.orientation.transform_vector(&(du + omega.cross(&u)));
+    }
+    rate
 }

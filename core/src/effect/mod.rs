@@ -11,8 +11,10 @@
 //! come out in the body frame, N and N m, about the centre of mass.
 
 mod kinds;
+mod storage;
 
 pub use kinds::{EffectKind, MAX_PARAMS};
+pub use storage::PAYLOAD_VERSION;
 
 use crate::aero::Wrench;
 use crate::math::{symmetric_from_six, Real};
