@@ -52,11 +52,12 @@ pub struct FlightReport {
     pub seed: u64,
     /// Lowest centre-of-mass height, m.
     pub min_height: f64,
-    /// Mean and lowest line elevation over the second half, degrees.
+    /// Mean line elevation over the second half of the time flown
+    /// (to the crash, if it crashed), degrees.
     pub mean_elevation_deg: f64,
-    /// Lowest line elevation over the second half, degrees.
+    /// Lowest line elevation over the same span, degrees.
     pub min_elevation_deg: f64,
-    /// Largest |Ω| over the second half, rad/s.
+    /// Largest |Ω| over the same span, rad/s.
     pub max_spin: f64,
     /// Mean and largest line tension, N.
     pub mean_tension: f64,
@@ -100,7 +101,10 @@ fn summarise(
     min_height: f64,
     trace: Vec<Sample>,
 ) -> FlightReport {
-    let half: Vec<&Sample> = trace.iter().filter(|s| s.t >= opts.seconds / 2.0).collect();
+    // The second half of the time actually flown (all of it when the kite
+    // crashed before the halfway point of the requested run).
+    let end = trace.last().map_or(0.0, |s| s.t);
+    let half: Vec<&Sample> = trace.iter().filter(|s| s.t >= end / 2.0).collect();
     let n = half.len().max(1) as f64;
     let mean_elevation = half.iter().map(|s| s.elevation_deg).sum::<f64>() / n;
     let min_elevation = half
@@ -126,11 +130,7 @@ fn summarise(
         seed: opts.seed,
         min_height,
         mean_elevation_deg: mean_elevation,
-        min_elevation_deg: if half.is_empty() {
-            f64::NAN
-        } else {
-            min_elevation
-        },
+        min_elevation_deg: min_elevation,
         max_spin,
         mean_tension,
         max_tension,
