@@ -91,11 +91,23 @@ pub struct StaticReport {
     pub at: &'static str,
     /// The attitude (x, y, z Euler angles), degrees.
     pub orientation_deg: [f64; 3],
-    /// Axes of `(J + Jᵀ)/2`, eigenvalues ascending.
+    /// Axes of `(J + Jᵀ)/2`, eigenvalues ascending (the paper's test).
     pub axes: Vec<AxisReport>,
+    /// The paper's test: every eigenvalue of `(J + Jᵀ)/2` negative, i.e.
+    /// `Θ·JΘ < 0` for every small turn Θ.
+    pub symmetric_part_stable: bool,
     /// `J`, rows, N m/rad.
     pub jacobian: [[f64; 3]; 3],
-    /// Every eigenvalue negative.
+    /// Eigenvalues of `J` itself, `[re, im]`, N m/rad.
+    pub jacobian_eigenvalues: Vec<[f64; 2]>,
+    /// No static divergence: every real eigenvalue of `J` is negative, so
+    /// no turn Θ is met by a torque pushing further along Θ. The paper's
+    /// symmetric-part test implies it but is stricter than the physics: a
+    /// non-symmetric `J` (roll-yaw coupling through the string) can have
+    /// `Θ·JΘ > 0` for some Θ and still turn every Θ into a decaying
+    /// oscillation (`fig15-b`: symmetric-part eigenvalue +0.20 about yaw,
+    /// `J`'s eigenvalues -0.02 ± 0.26i and -0.55; it flies). Whether such
+    /// oscillations decay is the dynamic test's ([`crate::modes`]).
     pub stable: bool,
 }
 
@@ -121,10 +133,22 @@ fn static_test(
         })
         .collect();
     let (x, y, z) = r.euler_angles();
+    let scale = st.jacobian.abs().max().max(f64::MIN_POSITIVE);
+    let eig: Vec<[f64; 2]> = st
+        .jacobian
+        .complex_eigenvalues()
+        .iter()
+        .map(|l| [l.re, l.im])
+        .collect();
+    let divergent = eig
+        .iter()
+        .any(|[re, im]| im.abs() <= 1e-9 * scale && !(*re < 0.0));
     Ok(StaticReport {
         at,
         orientation_deg: [x, y, z].map(f64::to_degrees),
-        stable: axes.iter().all(|a| a.stable),
+        symmetric_part_stable: axes.iter().all(|a| a.stable),
+        stable: !divergent,
+        jacobian_eigenvalues: eig,
         axes,
         jacobian: [0, 1, 2].map(|i| [0, 1, 2].map(|j| st.jacobian[(i, j)])),
     })
@@ -248,9 +272,15 @@ fn reasons(
     } else if overlaps.is_empty() && modes.equilibrium.is_none() {
         reasons.push("the kite on its line has no equilibrium near the file's orientation".into());
     }
+    if !statics.stable {
+        reasons.push(format!(
+            "statically unstable (divergent) at the {}: a real eigenvalue of dT/dTheta is >= 0",
+            statics.at
+        ));
+    }
     for a in statics.axes.iter().filter(|a| !a.stable) {
         reasons.push(format!(
-            "statically unstable at the {} about axis [{:.2}, {:.2}, {:.2}] (eigenvalue {:+.4} N m/rad)",
+            "paper's test (symmetric part) at the {}: positive about axis [{:.2}, {:.2}, {:.2}] (eigenvalue {:+.4} N m/rad)",
             statics.at, a.axis[0], a.axis[1], a.axis[2], a.eigenvalue
         ));
     }
@@ -306,9 +336,10 @@ pub fn render(r: &CheckReport) -> String {
     }
     s += &crate::modes::render(&r.modes);
     s += &format!(
-        "  static test at the {}: {}\n",
+        "  static test at the {}: {} (paper's symmetric-part test: {})\n",
         r.statics.at,
-        if r.statics.stable { "stable" } else { "UNSTABLE" }
+        if r.statics.stable { "no divergence" } else { "DIVERGENT" },
+        if r.statics.symmetric_part_stable { "stable" } else { "unstable" }
     );
     s += &format!("  verdict: {}\n", r.verdict.name());
     for reason in &r.reasons {

@@ -7,8 +7,11 @@
 //!    — else `string_pushes`;
 //! 3. the flight model has an equilibrium near the file's attitude
 //!    ([`crate::equilibrium`]) — else `no_equilibrium`;
-//! 4. §7's static test there: every eigenvalue of the symmetric part of
-//!    `∂T_kite/∂Θ` negative — else `statically_unstable`;
+//! 4. the static test there on §7's Jacobian `J = ∂T_kite/∂Θ`: no static
+//!    divergence (every real eigenvalue of `J` negative; see
+//!    `check::StaticReport::stable` for why not the paper's stricter
+//!    symmetric-part test, which is still reported) — else
+//!    `statically_unstable`;
 //! 5. every mode of the linearised tethered kite decays
 //!    ([`crate::modes`]) — else `dynamically_unstable`.
 
@@ -26,7 +29,7 @@ pub enum Verdict {
     StringPushes,
     /// No equilibrium of the tethered kite near the file's attitude.
     NoEquilibrium,
-    /// §7: a positive eigenvalue of the symmetric Jacobian at equilibrium.
+    /// A divergent direction of §7's Jacobian at equilibrium.
     StaticallyUnstable,
     /// A growing mode of the linearised tethered kite.
     DynamicallyUnstable,
@@ -54,7 +57,7 @@ pub struct Tests {
     pub pulls_down: bool,
     /// An equilibrium was found.
     pub equilibrium: bool,
-    /// §7 static test at the equilibrium.
+    /// No static divergence at the equilibrium.
     pub statically_stable: bool,
     /// Every mode decays.
     pub dynamically_stable: bool,
