@@ -338,8 +338,16 @@ pub fn render(r: &CheckReport) -> String {
     s += &format!(
         "  static test at the {}: {} (paper's symmetric-part test: {})\n",
         r.statics.at,
-        if r.statics.stable { "no divergence" } else { "DIVERGENT" },
-        if r.statics.symmetric_part_stable { "stable" } else { "unstable" }
+        if r.statics.stable {
+            "no divergence"
+        } else {
+            "DIVERGENT"
+        },
+        if r.statics.symmetric_part_stable {
+            "stable"
+        } else {
+            "unstable"
+        }
     );
     s += &format!("  verdict: {}\n", r.verdict.name());
     for reason in &r.reasons {

@@ -121,8 +121,8 @@ mod tests {
         let u = d / dist;
         let t = line.force(&base).norm();
         let uu = u * u.transpose();
-        let k = (uu * line.stiffness + (Matrix3::identity() - uu) * (t / dist))
-            / -flight.body().mass;
+        let k =
+            (uu * line.stiffness + (Matrix3::identity() - uu) * (t / dist)) / -flight.body().mass;
         let got = a.fixed_view::<3, 3>(6, 0).into_owned();
         assert!((got - k).abs().max() < 1e-6 * k.abs().max(), "{got} vs {k}");
     }

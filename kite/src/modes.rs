@@ -109,7 +109,10 @@ pub fn analyse(design: &Design, wind: Option<f64>) -> Result<(Option<Equilibrium
     };
     let a = state_matrix(&flight, &eq.state);
     let modes = modes_of(&flight, &eq, &a);
-    let max = modes.iter().map(|m| m.real).fold(f64::NEG_INFINITY, f64::max);
+    let max = modes
+        .iter()
+        .map(|m| m.real)
+        .fold(f64::NEG_INFINITY, f64::max);
     let (x, y, z) = eq.state.orientation.euler_angles();
     let report = ModesReport {
         equilibrium: Some(EquilibriumReport {
