@@ -5,8 +5,8 @@
 //! [`crate::modes`], and the one verdict of [`crate::verdict`].
 
 use crate::assemble::Design;
+pub use crate::attachment::attachment_point;
 use crate::modes::ModesReport;
-use crate::spec::Attachment;
 use crate::verdict::{verdict, Tests};
 use anyhow::{anyhow, Result};
 use nalgebra::{UnitQuaternion, Vector3};
@@ -152,25 +152,6 @@ fn static_test(
         axes,
         jacobian: [0, 1, 2].map(|i| [0, 1, 2].map(|j| st.jacobian[(i, j)])),
     })
-}
-
-/// P in the body frame for the file's attachment setting at orientation R.
-pub fn attachment_point(
-    design: &Design,
-    wind: Option<f64>,
-    r: &UnitQuaternion<f64>,
-) -> Result<Vector3<f64>> {
-    let prims = design.primitives();
-    let kite = design.kite(&prims);
-    let eq = statics::equilibrium(&kite, &design.conditions(wind), r)
-        .map_err(|e| anyhow!("equilibrium: {e}"))?;
-    let gamma = match design.spec.attachment() {
-        Attachment::Gamma(g) => g,
-        Attachment::Offset(d) => {
-            statics::gamma_for_distance(&eq, d).map_err(|e| anyhow!("string: {e}"))?
-        }
-    };
-    statics::attachment_point(&eq, gamma).map_err(|e| anyhow!("string: {e}"))
 }
 
 /// The static report at orientation `r` with the string at `attachment`

@@ -112,7 +112,7 @@ impl Flight {
         let r0 = design.orientation();
         design.reject_overlaps(&r0)?;
         let line = Line {
-            attachment: crate::check::attachment_point(&design, Some(speed), &r0)?,
+            attachment: crate::attachment::attachment_point(&design, Some(speed), &r0)?,
             anchor: Vector3::from(ANCHOR),
             length: design.spec.string.length,
             stiffness: opts.stiffness,

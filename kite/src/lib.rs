@@ -14,6 +14,7 @@
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
 pub mod assemble;
+mod attachment;
 pub mod check;
 pub mod equilibrium;
 pub mod export;

@@ -206,8 +206,8 @@ fn shares(
     };
     let lateral = axes.column(2).into_owned();
     let mut e = [0.0; 5];
-    for k in 0..3 {
-        e[k] = mass * along(axes.column(k).into_owned(), &y);
+    for (k, share) in e.iter_mut().take(3).enumerate() {
+        *share = mass * along(axes.column(k).into_owned(), &y);
     }
     let pitch = lateral;
     e[3] = (pitch.transpose() * inertia * pitch)[0] * along(pitch, &theta);
