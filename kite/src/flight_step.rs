@@ -143,25 +143,25 @@ impl Flight {
     /// exposed so that the linearisation differentiates this very
     /// function.
     pub fn rate(&self, t: f64, state: &State<f64>) -> StateRate<f64> {
+        self.with_tether(|tether| {
+            state_rate(
+                &self.body,
+                &self.env.gravity,
+                state,
+                &tether.wrench(t, state),
+            )
+        })
+    }
+
+    /// Runs `f` with the forces on the kite (air and line) now.
+    fn with_tether<R>(&self, f: impl FnOnce(&Tether) -> R) -> R {
         let prims = self.design.primitives();
-        let tether = Tether {
+        f(&Tether {
             primitives: &prims,
             line: &self.line,
             wind: &self.wind,
             air_density: self.design.spec.wind.air_density,
-        };
-        state_rate(
-            &self.body,
-            &self.env.gravity,
-            state,
-            &tether.wrench(t, state),
-        )
-    }
-
-    /// Restarts the flight at time zero from `state`.
-    pub fn restart_from(&mut self, state: State<f64>) {
-        self.state = state;
-        self.steps = 0;
+        })
     }
 
     /// The rigid body (mass, inertia).
@@ -171,15 +171,9 @@ impl Flight {
 
     /// Advances one RK4 step of `dt`.
     pub fn step(&mut self) {
-        let prims = self.design.primitives();
-        let tether = Tether {
-            primitives: &prims,
-            line: &self.line,
-            wind: &self.wind,
-            air_density: self.design.spec.wind.air_density,
-        };
         let t = self.time();
-        self.state = rk4_step(&self.body, &self.env, &tether, t, self.dt, &self.state);
+        self.state = self
+            .with_tether(|tether| rk4_step(&self.body, &self.env, tether, t, self.dt, &self.state));
         self.steps += 1;
     }
 
