@@ -21,23 +21,26 @@ fn text(b: &[u8]) -> String {
 fn check_prints_verdict_and_json() {
     let out = omniad()
         .args(["kite", "check"])
-        .arg(kite("box-classic"))
+        .arg(kite("box-three-cell"))
         .output()
         .expect("run");
     assert!(out.status.success(), "{}", text(&out.stderr));
     assert!(
-        text(&out.stdout).contains("verdict: Stable"),
+        text(&out.stdout).contains("verdict: stable"),
         "{}",
         text(&out.stdout)
     );
     let out = omniad()
         .args(["kite", "check", "--json", "--wind", "5"])
-        .arg(kite("box-classic"))
+        .arg(kite("box-three-cell"))
         .output()
         .expect("run");
     assert!(out.status.success(), "{}", text(&out.stderr));
     let v: serde_json::Value = serde_json::from_slice(&out.stdout).expect("json");
     assert_eq!(v["verdict"], "stable");
+    assert_eq!(v["static"]["stable"], true);
+    assert_eq!(v["modes"]["stable"], true);
+    assert!(v["modes"]["modes"].as_array().is_some_and(|m| m.len() >= 6));
     assert_eq!(v["pulls_down"], true);
     assert_eq!(v["axes"].as_array().map(Vec::len), Some(3));
     assert!(v["gamma"].is_number() && v["attachment"].is_array() && v["tension_world"].is_array());
@@ -175,4 +178,72 @@ fn kite_outputs_replace_files_whole_and_leave_nothing_behind() {
     assert!(!out.status.success());
     assert_eq!(std::fs::read_to_string(&csv).expect("csv"), trace);
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Issue 17: for every bundled design and seeds 1-3 the verdict is
+/// `stable` exactly when the 60 s flight in 1 m/s gusts flies. The full
+/// 60 s flights are run (a shorter flight changes outcomes: several
+/// unstable kites crash after 30 s); in a debug build this is the slow
+/// test of the file (about a minute), in release a few seconds.
+#[test]
+fn verdict_agrees_with_the_flight_for_every_bundled_design() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("data/kites");
+    let mut files: Vec<PathBuf> = std::fs::read_dir(&dir)
+        .expect("kites")
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.extension().is_some_and(|x| x == "toml"))
+        .collect();
+    files.sort();
+    assert!(files.len() >= 11, "{} designs", files.len());
+    let mut table = String::new();
+    let mut bad = Vec::new();
+    for f in &files {
+        let out = omniad()
+            .args(["kite", "check", "--json"])
+            .arg(f)
+            .output()
+            .expect("run");
+        assert!(out.status.success(), "{}", text(&out.stderr));
+        let v: serde_json::Value = serde_json::from_slice(&out.stdout).expect("json");
+        let verdict = v["verdict"].as_str().expect("verdict").to_string();
+        let name = f
+            .file_stem()
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_default();
+        table += &format!("{name:<26} {verdict:<22}");
+        for seed in ["1", "2", "3"] {
+            let out = omniad()
+                .args([
+                    "kite",
+                    "fly",
+                    "--json",
+                    "--seconds",
+                    "60",
+                    "--gust",
+                    "1",
+                    "--seed",
+                    seed,
+                ])
+                .arg(f)
+                .output()
+                .expect("run");
+            assert!(out.status.success(), "{}", text(&out.stderr));
+            let r: serde_json::Value = serde_json::from_slice(&out.stdout).expect("json");
+            let outcome = r["outcome"].as_str().expect("outcome").to_string();
+            for k in [
+                "mean_elevation_deg",
+                "min_elevation_deg",
+                "max_spin",
+                "mean_tension",
+            ] {
+                assert!(r[k].is_number(), "{name} seed {seed}: {k} = {}", r[k]);
+            }
+            table += &format!(" {outcome:<10}");
+            if (verdict == "stable") != (outcome == "flies") {
+                bad.push(format!("{name} seed {seed}: {verdict} but {outcome}"));
+            }
+        }
+        table += "\n";
+    }
+    assert!(bad.is_empty(), "{bad:?}\n{table}");
 }

@@ -22,7 +22,7 @@ fn main() -> anyhow::Result<()> {
         }
     }
     let library = Library::load(&omniad_kite::library::default_dir())?;
-    println!("| kite | mass g | pulls down | eigenvalues (N m/rad) | static verdict | rot. growth 1/s | trim | flight ({} s, gust {} m/s, seed {}) |", opts.seconds, opts.gust, opts.seed);
+    println!("| kite | mass g | pulls down | eigenvalues (N m/rad) | verdict | largest mode growth 1/s | trim | flight ({} s, gust {} m/s, seed {}) |", opts.seconds, opts.gust, opts.seed);
     println!("|---|---|---|---|---|---|---|---|");
     for path in &args {
         let design = match Design::load(std::path::Path::new(path), &library) {
@@ -49,13 +49,13 @@ fn main() -> anyhow::Result<()> {
             .to_lowercase(),
         };
         println!(
-            "| {} | {:.0} | {} | {} | {:?} | {:+.2} | {} | {} |",
+            "| {} | {:.0} | {} | {} | {} | {:+.2} | {} | {} |",
             c.name,
             c.mass * 1e3,
             c.pulls_down,
             eig.join(" "),
-            c.verdict,
-            c.rotational_growth_rate,
+            c.verdict.name(),
+            c.modes.max_growth_rate,
             t.summary(),
             flight
         );

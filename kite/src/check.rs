@@ -1,27 +1,19 @@
 //! `kite check`: the static report of §7 — string tension from linear
 //! equilibrium (eq. 14), the attachment point on the eq. (16) line, the
 //! unbalanced torque (eq. 15), and stability from the eigen-decomposition
-//! of the symmetric part of `∂T_kite/∂Θ`.
+//! of the symmetric part of `∂T_kite/∂Θ` — beside the dynamic analysis of
+//! [`crate::modes`], and the one verdict of [`crate::verdict`].
 
 use crate::assemble::Design;
-use crate::spec::Attachment;
+pub use crate::attachment::attachment_point;
+use crate::modes::ModesReport;
+use crate::verdict::{verdict, Tests};
 use anyhow::{anyhow, Result};
 use nalgebra::{UnitQuaternion, Vector3};
 use omniad_core::kite::{stability, statics};
 use serde::Serialize;
 
-/// The overall static verdict.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
-#[serde(rename_all = "lowercase")]
-pub enum Verdict {
-    /// String pulls down, all three axes stable, no overlap.
-    Stable,
-    /// String pulls down but at least one axis is unstable.
-    Unstable,
-    /// The string would have to pull upward (the kite cannot be held up by
-    /// the wind), or primitives overlap along the wind.
-    Unflyable,
-}
+pub use crate::verdict::Verdict;
 
 /// One eigen-axis of the symmetric part of the Jacobian.
 #[derive(Clone, Debug, Serialize)]
@@ -72,38 +64,94 @@ pub struct CheckReport {
     pub unbalanced_torque: [f64; 3],
     /// `|T_kite|`, N m.
     pub unbalanced_torque_norm: f64,
-    /// Axes of `(J + Jᵀ)/2`, eigenvalues ascending.
+    /// Axes of `(J + Jᵀ)/2` at the file's orientation (what KiteShop
+    /// shows while editing), eigenvalues ascending.
     pub axes: Vec<AxisReport>,
-    /// `J = ∂T_kite/∂Θ`, rows, N m/rad.
+    /// `J = ∂T_kite/∂Θ` at the file's orientation, rows, N m/rad.
     pub jacobian: [[f64; 3]; 3],
+    /// §7's static test as the verdict uses it: at the flight model's
+    /// equilibrium (where the kite actually hangs), else at the file's
+    /// orientation.
+    #[serde(rename = "static")]
+    pub statics: StaticReport,
     /// Primitive pairs overlapping along the wind.
     pub overlaps: Vec<[String; 2]>,
-    /// Beyond the paper (diagnostic, not part of the verdict): growth rate
-    /// of the fastest linearised rotational mode, 1/s (see `modes`).
-    pub rotational_growth_rate: f64,
-    /// Verdict.
+    /// The linearised tethered kite: equilibrium and modes.
+    pub modes: ModesReport,
+    /// Verdict: `stable`, or the first test that failed.
     pub verdict: Verdict,
     /// Why, in words.
     pub reasons: Vec<String>,
 }
 
-/// P in the body frame for the file's attachment setting at orientation R.
-pub fn attachment_point(
+/// §7's static test at one attitude.
+#[derive(Clone, Debug, Serialize)]
+pub struct StaticReport {
+    /// `"equilibrium"` or `"file orientation"`.
+    pub at: &'static str,
+    /// The attitude (x, y, z Euler angles), degrees.
+    pub orientation_deg: [f64; 3],
+    /// Axes of `(J + Jᵀ)/2`, eigenvalues ascending (the paper's test).
+    pub axes: Vec<AxisReport>,
+    /// The paper's test: every eigenvalue of `(J + Jᵀ)/2` negative, i.e.
+    /// `Θ·JΘ < 0` for every small turn Θ.
+    pub symmetric_part_stable: bool,
+    /// `J`, rows, N m/rad.
+    pub jacobian: [[f64; 3]; 3],
+    /// Eigenvalues of `J` itself, `[re, im]`, N m/rad.
+    pub jacobian_eigenvalues: Vec<[f64; 2]>,
+    /// No static divergence: every real eigenvalue of `J` is negative, so
+    /// no turn Θ is met by a torque pushing further along Θ. The paper's
+    /// symmetric-part test implies it but is stricter than the physics: a
+    /// non-symmetric `J` (roll-yaw coupling through the string) can have
+    /// `Θ·JΘ > 0` for some Θ and still turn every Θ into a decaying
+    /// oscillation (`fig15-b`: symmetric-part eigenvalue +0.20 about yaw,
+    /// `J`'s eigenvalues -0.02 ± 0.26i and -0.55; it flies). Whether such
+    /// oscillations decay is the dynamic test's ([`crate::modes`]).
+    pub stable: bool,
+}
+
+/// §7's eigen-analysis at attitude `r` with the string at `p`.
+fn static_test(
     design: &Design,
     wind: Option<f64>,
     r: &UnitQuaternion<f64>,
-) -> Result<Vector3<f64>> {
+    p: &Vector3<f64>,
+    at: &'static str,
+) -> Result<StaticReport> {
     let prims = design.primitives();
     let kite = design.kite(&prims);
-    let eq = statics::equilibrium(&kite, &design.conditions(wind), r)
-        .map_err(|e| anyhow!("equilibrium: {e}"))?;
-    let gamma = match design.spec.attachment() {
-        Attachment::Gamma(g) => g,
-        Attachment::Offset(d) => {
-            statics::gamma_for_distance(&eq, d).map_err(|e| anyhow!("string: {e}"))?
-        }
-    };
-    statics::attachment_point(&eq, gamma).map_err(|e| anyhow!("string: {e}"))
+    let st = stability::stability(&kite, &design.conditions(wind), r, p)
+        .map_err(|e| anyhow!("stability: {e}"))?;
+    let axes: Vec<AxisReport> = st
+        .axes
+        .iter()
+        .map(|a| AxisReport {
+            eigenvalue: a.eigenvalue,
+            axis: a.axis.into(),
+            stable: a.stable,
+        })
+        .collect();
+    let (x, y, z) = r.euler_angles();
+    let scale = st.jacobian.abs().max().max(f64::MIN_POSITIVE);
+    let eig: Vec<[f64; 2]> = st
+        .jacobian
+        .complex_eigenvalues()
+        .iter()
+        .map(|l| [l.re, l.im])
+        .collect();
+    let divergent = eig
+        .iter()
+        .any(|[re, im]| im.abs() <= 1e-9 * scale && !(*re < 0.0));
+    Ok(StaticReport {
+        at,
+        orientation_deg: [x, y, z].map(f64::to_degrees),
+        symmetric_part_stable: axes.iter().all(|a| a.stable),
+        stable: !divergent,
+        jacobian_eigenvalues: eig,
+        axes,
+        jacobian: [0, 1, 2].map(|i| [0, 1, 2].map(|j| st.jacobian[(i, j)])),
+    })
 }
 
 /// The static report at orientation `r` with the string at `attachment`
@@ -127,25 +175,32 @@ pub fn check_at(
     let offset = (p - foot).dot(&f) / f.norm().max(f64::MIN_POSITIVE);
     let gamma = offset / f.norm().max(f64::MIN_POSITIVE);
     let torque = statics::unbalanced_torque(&eq, &p);
-    let st = stability::stability(&kite, &cond, r, &p).map_err(|e| anyhow!("stability: {e}"))?;
+    let here = static_test(design, wind, r, &p, "file orientation")?;
     let overlaps: Vec<[String; 2]> = design
         .overlaps(r)
         .into_iter()
         .map(|(a, b)| [a, b])
         .collect();
-    let axes: Vec<AxisReport> = st
-        .axes
-        .iter()
-        .map(|a| AxisReport {
-            eigenvalue: a.eigenvalue,
-            axis: a.axis.into(),
-            stable: a.stable,
-        })
-        .collect();
-    let (verdict, mut reasons) = verdict(eq.pulls_down, &axes, &overlaps);
+    let (equilibrium, modes) = if overlaps.is_empty() && eq.pulls_down {
+        crate::modes::analyse(design, wind)?
+    } else {
+        (None, ModesReport::none())
+    };
+    let statics = match &equilibrium {
+        Some(e) => static_test(design, wind, &e.state.orientation, &p, "equilibrium")?,
+        None => here.clone(),
+    };
+    let verdict = verdict(&Tests {
+        overlaps: overlaps.len(),
+        pulls_down: eq.pulls_down,
+        equilibrium: equilibrium.is_some(),
+        statically_stable: statics.stable,
+        dynamically_stable: modes.stable,
+    });
+    let mut reasons = reasons(eq.pulls_down, &overlaps, &statics, &modes);
     if torque.norm() > 1e-3 {
         reasons.push(format!(
-            "unbalanced torque {:.4} N m remains (its part along the string cannot be cancelled by the attachment point): the kite will turn to its trim (see `kite trim`)",
+            "unbalanced torque {:.4} N m at the file's orientation (its part along the string cannot be cancelled by the attachment point): the kite turns to its equilibrium",
             torque.norm()
         ));
     }
@@ -168,10 +223,11 @@ pub fn check_at(
         attachment: p.into(),
         unbalanced_torque: torque.into(),
         unbalanced_torque_norm: torque.norm(),
-        axes,
-        jacobian: [0, 1, 2].map(|i| [0, 1, 2].map(|j| st.jacobian[(i, j)])),
+        axes: here.axes,
+        jacobian: here.jacobian,
+        statics,
         overlaps,
-        rotational_growth_rate: crate::modes::max_growth_rate(design, wind, r, &p)?,
+        modes,
         verdict,
         reasons,
     })
@@ -182,32 +238,40 @@ pub fn check(design: &Design, wind: Option<f64>) -> Result<CheckReport> {
     check_at(design, wind, &design.orientation(), None)
 }
 
-fn verdict(
+fn reasons(
     pulls_down: bool,
-    axes: &[AxisReport],
     overlaps: &[[String; 2]],
-) -> (Verdict, Vec<String>) {
+    statics: &StaticReport,
+    modes: &ModesReport,
+) -> Vec<String> {
     let mut reasons = Vec::new();
     for [a, b] in overlaps {
         reasons.push(format!("{a} and {b} overlap along the wind"));
     }
     if !pulls_down {
         reasons.push("the string would have to pull upward (f_string · g <= 0)".into());
+    } else if overlaps.is_empty() && modes.equilibrium.is_none() {
+        reasons.push("the kite on its line has no equilibrium near the file's orientation".into());
     }
-    for a in axes.iter().filter(|a| !a.stable) {
+    if !statics.stable {
         reasons.push(format!(
-            "unstable about axis [{:.2}, {:.2}, {:.2}] (eigenvalue {:+.4} N m/rad)",
-            a.axis[0], a.axis[1], a.axis[2], a.eigenvalue
+            "statically unstable (divergent) at the {}: a real eigenvalue of dT/dTheta is >= 0",
+            statics.at
         ));
     }
-    let v = if !pulls_down || !overlaps.is_empty() {
-        Verdict::Unflyable
-    } else if axes.iter().any(|a| !a.stable) {
-        Verdict::Unstable
-    } else {
-        Verdict::Stable
-    };
-    (v, reasons)
+    for a in statics.axes.iter().filter(|a| !a.stable) {
+        reasons.push(format!(
+            "paper's test (symmetric part) at the {}: positive about axis [{:.2}, {:.2}, {:.2}] (eigenvalue {:+.4} N m/rad)",
+            statics.at, a.axis[0], a.axis[1], a.axis[2], a.eigenvalue
+        ));
+    }
+    for m in modes.modes.iter().filter(|m| !m.stable) {
+        reasons.push(format!(
+            "dynamically unstable: {} mode grows at {:+.3}/s",
+            m.motion, m.real
+        ));
+    }
+    reasons
 }
 
 /// Human-readable report.
@@ -242,6 +306,7 @@ pub fn render(r: &CheckReport) -> String {
         v(&r.unbalanced_torque),
         r.unbalanced_torque_norm
     );
+    s += "  static (§7) at the file's orientation:\n";
     for a in &r.axes {
         s += &format!(
             "  axis {}  eigenvalue {:+.5} N m/rad  {}\n",
@@ -250,13 +315,24 @@ pub fn render(r: &CheckReport) -> String {
             if a.stable { "stable" } else { "UNSTABLE" }
         );
     }
-    s += &format!("  verdict: {:?}\n", r.verdict);
+    s += &crate::modes::render(&r.modes);
+    s += &format!(
+        "  static test at the {}: {} (paper's symmetric-part test: {})\n",
+        r.statics.at,
+        if r.statics.stable {
+            "no divergence"
+        } else {
+            "DIVERGENT"
+        },
+        if r.statics.symmetric_part_stable {
+            "stable"
+        } else {
+            "unstable"
+        }
+    );
+    s += &format!("  verdict: {}\n", r.verdict.name());
     for reason in &r.reasons {
         s += &format!("    - {reason}\n");
     }
-    s += &format!(
-        "  (diagnostic, beyond the paper) fastest rotational mode grows at {:+.3} 1/s\n",
-        r.rotational_growth_rate
-    );
     s
 }

@@ -10,7 +10,8 @@ use anyhow::{anyhow, Result};
 use nalgebra::{UnitQuaternion, Vector3};
 use omniad_core::integrate::rk4_step;
 use omniad_core::kite::statics;
-use omniad_core::rigid_body::{Environment, State};
+use omniad_core::rigid_body::Forces;
+use omniad_core::rigid_body::{state_rate, Environment, State, StateRate};
 use omniad_core::RigidBody;
 use serde::Serialize;
 
@@ -18,8 +19,16 @@ use serde::Serialize;
 pub const GROUND_CLEARANCE: f64 = 0.3;
 /// Lowest line elevation counted as flying, degrees.
 pub const MIN_ELEVATION_DEG: f64 = 15.0;
-/// Highest angular speed counted as bounded, rad/s.
-pub const MAX_SPIN: f64 = 10.0;
+/// Highest angular speed of a settled kite, rad/s. A kite held on its
+/// line turns with the wind's direction: in the default gusts
+/// (`G` = 1 m/s at 5 m/s, [`crate::wind`]) the crosswind turns the
+/// apparent wind at 0.34 rad/s rms, peaks near 1 rad/s. Turning faster
+/// than twice those peaks for any time in the second half is
+/// self-excited motion — a growing mode that saturated into rolling or
+/// looping (the bundled classic box kite's roll-yaw flutter turns at
+/// 2-5 rad/s with ±50° roll) — not flight. (It was 10 rad/s, which
+/// counted such loops as flying.)
+pub const MAX_SPIN: f64 = 2.0;
 /// Anchor (the flyer's hand), world frame, m.
 pub const ANCHOR: [f64; 3] = [0.0, 0.0, 1.5];
 
@@ -103,7 +112,7 @@ impl Flight {
         let r0 = design.orientation();
         design.reject_overlaps(&r0)?;
         let line = Line {
-            attachment: crate::check::attachment_point(&design, Some(speed), &r0)?,
+            attachment: crate::attachment::attachment_point(&design, Some(speed), &r0)?,
             anchor: Vector3::from(ANCHOR),
             length: design.spec.string.length,
             stiffness: opts.stiffness,
@@ -129,17 +138,42 @@ impl Flight {
         })
     }
 
-    /// Advances one RK4 step of `dt`.
-    pub fn step(&mut self) {
+    /// The flight model's state derivative (eqs. 1-2 with the tether's
+    /// wrench) at `state` and time `t`: what [`Flight::step`] integrates,
+    /// exposed so that the linearisation differentiates this very
+    /// function.
+    pub fn rate(&self, t: f64, state: &State<f64>) -> StateRate<f64> {
+        self.with_tether(|tether| {
+            state_rate(
+                &self.body,
+                &self.env.gravity,
+                state,
+                &tether.wrench(t, state),
+            )
+        })
+    }
+
+    /// Runs `f` with the forces on the kite (air and line) now.
+    fn with_tether<R>(&self, f: impl FnOnce(&Tether) -> R) -> R {
         let prims = self.design.primitives();
-        let tether = Tether {
+        f(&Tether {
             primitives: &prims,
             line: &self.line,
             wind: &self.wind,
             air_density: self.design.spec.wind.air_density,
-        };
+        })
+    }
+
+    /// The rigid body (mass, inertia).
+    pub fn body(&self) -> &RigidBody<f64> {
+        &self.body
+    }
+
+    /// Advances one RK4 step of `dt`.
+    pub fn step(&mut self) {
         let t = self.time();
-        self.state = rk4_step(&self.body, &self.env, &tether, t, self.dt, &self.state);
+        self.state = self
+            .with_tether(|tether| rk4_step(&self.body, &self.env, tether, t, self.dt, &self.state));
         self.steps += 1;
     }
 

@@ -14,7 +14,9 @@
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
 pub mod assemble;
+mod attachment;
 pub mod check;
+pub mod equilibrium;
 pub mod export;
 pub mod flight;
 mod flight_step;
@@ -22,11 +24,13 @@ pub mod generate;
 pub mod geometry;
 pub mod joints;
 pub mod library;
+pub mod linearise;
 pub mod mass;
 pub mod modes;
 pub mod spec;
 mod tether;
 pub mod trimming;
+pub mod verdict;
 pub mod wind;
 
 pub use assemble::Design;

@@ -1,55 +1,266 @@
-//! A diagnostic beyond the paper, used to explain where the static verdict
-//! and the flight simulation disagree: the linearised *rotational*
-//! dynamics about the static balance, `I Θ̈ = J Θ + C Θ̇`, with `J` the
-//! stability Jacobian (string tension from linear equilibrium, as in §7)
-//! and `C = ∂T_air/∂Ω` at `Ω = 0` (the rate damping that comes from each
-//! primitive moving through the air at `Ω × Y_p`; OmniAD's own D term is
-//! quadratic in Ω and so has no linear part). The largest real part of the
-//! eigenvalues of `[[0, 1], [I⁻¹J, I⁻¹C]]` is the growth rate (1/s) of the
-//! fastest rotational mode: positive means the attitude oscillation grows
-//! (flutter from the non-symmetric part of `J`, which the symmetric-part
-//! test of §7 ignores). Translation along the line is still ignored.
+//! Dynamic stability beyond the paper's §7: the eigen-modes of the
+//! tethered kite linearised about its equilibrium ([`crate::equilibrium`],
+//! [`crate::linearise`]) — the rigid body on its elastic line, the same
+//! model `kite fly` integrates — reported as XFLR5 and the
+//! Vortex-Step-Method tools report them: eigenvalue `λ = σ ± iω` (1/s),
+//! frequency `ω/2π` (Hz), damping ratio `ζ = -σ/|λ|`, and the motion in
+//! words. The kite is dynamically stable when every `σ < 0`.
+//!
+//! The motion is named by where the mode's kinetic energy goes (from the
+//! eigenvector's position and attitude parts: `M|δy_k|²` per line axis,
+//! `a_kᵀ I a_k |δθ_k|²` per rotation axis, world frame at the equilibrium):
+//! *line stretch* (along the line), *pendulum swing* (across the line in
+//! the vertical plane: elevation), *lateral swing* (across the line,
+//! horizontally), *pitch* (rotation about the horizontal axis across the
+//! wind) and *roll-yaw* (rotation about the other two).
 
-use crate::assemble::Design;
-use anyhow::{anyhow, Result};
-use nalgebra::{Matrix3, SMatrix, UnitQuaternion, Vector3};
-use omniad_core::kite::{stability, statics};
+use crate::equilibrium::{equilibrium, Equilibrium};
+use crate::flight::{Flight, FlightOptions};
+use crate::linearise::{state_matrix, StateMatrix, STATES};
+use crate::Design;
+use anyhow::Result;
+use nalgebra::{Complex, Matrix3, SMatrix, SVector, Vector3};
+use serde::Serialize;
 
-/// `C = ∂T_air/∂Ω` at Ω = 0, body frame, N m s/rad (central differences).
-pub fn rate_damping(design: &Design, wind: Option<f64>, r: &UnitQuaternion<f64>) -> Matrix3<f64> {
-    let prims = design.primitives();
-    let cond = design.conditions(wind);
-    let v = r.inverse_transform_vector(&(-cond.wind));
-    let h = 1e-4;
-    let mut c = Matrix3::zeros();
-    for (j, e) in [Vector3::x(), Vector3::y(), Vector3::z()]
-        .iter()
-        .enumerate()
-    {
-        let t = |s: f64| statics::air_wrench(&prims, &v, &(e * s), cond.air_density).torque;
-        c.set_column(j, &((t(h) - t(-h)) / (2.0 * h)));
-    }
-    c
+type CVector = SVector<Complex<f64>, STATES>;
+
+/// Names of the motions, in the order of [`Mode::shares`].
+pub const MOTIONS: [&str; 5] = [
+    "line stretch",
+    "pendulum swing",
+    "lateral swing",
+    "pitch",
+    "roll-yaw",
+];
+
+/// One eigen-mode (complex pairs are listed once, `ω >= 0`).
+#[derive(Clone, Debug, Serialize)]
+pub struct Mode {
+    /// The motion in words (the largest kinetic-energy share, and the
+    /// second when it carries more than a quarter).
+    pub motion: String,
+    /// σ, 1/s (positive: grows).
+    pub real: f64,
+    /// ω, rad/s.
+    pub imag: f64,
+    /// ω / 2π, Hz (0 for a real mode).
+    pub frequency_hz: f64,
+    /// ζ = -σ/|λ| (1 for a real decaying mode, negative when growing).
+    pub damping_ratio: f64,
+    /// Kinetic-energy share per motion of [`MOTIONS`].
+    pub shares: [f64; 5],
+    /// σ < 0.
+    pub stable: bool,
 }
 
-/// The largest real part of the rotational modes, 1/s.
-pub fn max_growth_rate(
-    design: &Design,
-    wind: Option<f64>,
-    r: &UnitQuaternion<f64>,
-    p: &Vector3<f64>,
-) -> Result<f64> {
-    let prims = design.primitives();
-    let kite = design.kite(&prims);
-    let cond = design.conditions(wind);
-    let j = stability::jacobian(&kite, &cond, r, p).map_err(|e| anyhow!("{e}"))?;
-    let c = rate_damping(design, wind, r);
-    let inv = design.body()?.inverse_inertia;
-    let mut a = SMatrix::<f64, 6, 6>::zeros();
-    a.fixed_view_mut::<3, 3>(0, 3)
-        .copy_from(&Matrix3::identity());
-    a.fixed_view_mut::<3, 3>(3, 0).copy_from(&(inv * j));
-    a.fixed_view_mut::<3, 3>(3, 3).copy_from(&(inv * c));
-    let eig = a.complex_eigenvalues();
-    Ok(eig.iter().map(|z| z.re).fold(f64::NEG_INFINITY, f64::max))
+/// The equilibrium the modes are taken about.
+#[derive(Clone, Debug, Serialize)]
+pub struct EquilibriumReport {
+    /// Line elevation, degrees.
+    pub elevation_deg: f64,
+    /// Line tension, N.
+    pub tension: f64,
+    /// Attitude (x, y, z Euler angles), degrees.
+    pub orientation_deg: [f64; 3],
+    /// Turn from the file's orientation, degrees.
+    pub turn_deg: f64,
+}
+
+/// The dynamic analysis.
+#[derive(Clone, Debug, Serialize)]
+pub struct ModesReport {
+    /// The equilibrium (`None`: the model has none near the file's attitude).
+    pub equilibrium: Option<EquilibriumReport>,
+    /// Modes, least damped (largest σ) first.
+    pub modes: Vec<Mode>,
+    /// Largest σ, 1/s.
+    pub max_growth_rate: f64,
+    /// An equilibrium exists and every mode decays.
+    pub stable: bool,
+}
+
+impl ModesReport {
+    /// No equilibrium, so no modes.
+    pub fn none() -> Self {
+        Self {
+            equilibrium: None,
+            modes: Vec::new(),
+            max_growth_rate: f64::NAN,
+            stable: false,
+        }
+    }
+}
+
+/// The flight model in steady wind (no gusts) at the file's attitude.
+pub fn steady_flight(design: &Design, wind: Option<f64>) -> Result<Flight> {
+    let opts = FlightOptions {
+        gust: 0.0,
+        wind,
+        ..FlightOptions::default()
+    };
+    Flight::new(design.clone(), &opts)
+}
+
+/// The equilibrium and the modes about it.
+pub fn analyse(design: &Design, wind: Option<f64>) -> Result<(Option<Equilibrium>, ModesReport)> {
+    let flight = steady_flight(design, wind)?;
+    let Some(eq) = equilibrium(&flight) else {
+        return Ok((None, ModesReport::none()));
+    };
+    let a = state_matrix(&flight, &eq.state);
+    let modes = modes_of(&flight, &eq, &a);
+    let max = modes
+        .iter()
+        .map(|m| m.real)
+        .fold(f64::NEG_INFINITY, f64::max);
+    let (x, y, z) = eq.state.orientation.euler_angles();
+    let report = ModesReport {
+        equilibrium: Some(EquilibriumReport {
+            elevation_deg: eq.elevation_deg,
+            tension: eq.tension,
+            orientation_deg: [x, y, z].map(f64::to_degrees),
+            turn_deg: eq.turn_deg,
+        }),
+        stable: modes.iter().all(|m| m.stable),
+        max_growth_rate: max,
+        modes,
+    };
+    Ok((Some(eq), report))
+}
+
+fn modes_of(flight: &Flight, eq: &Equilibrium, a: &StateMatrix) -> Vec<Mode> {
+    let axes = line_axes(flight, eq);
+    let r = eq.state.orientation.to_rotation_matrix().into_inner();
+    let inertia = r * flight.body().inertia * r.transpose();
+    let mut modes: Vec<Mode> = a
+        .complex_eigenvalues()
+        .iter()
+        .filter(|l| l.im >= 0.0)
+        .map(|&l| {
+            let v = eigenvector(a, l);
+            let shares = shares(&v, &axes, &r, &inertia, flight.body().mass);
+            let mag = l.norm().max(f64::MIN_POSITIVE);
+            Mode {
+                motion: name(&shares),
+                real: l.re,
+                imag: l.im,
+                frequency_hz: l.im / (2.0 * std::f64::consts::PI),
+                damping_ratio: -l.re / mag,
+                shares,
+                stable: l.re < 0.0,
+            }
+        })
+        .collect();
+    modes.sort_by(|x, y| y.real.total_cmp(&x.real));
+    modes
+}
+
+/// World axes at the equilibrium: along the line (kite to anchor), across
+/// it in the vertical plane, across it horizontally.
+fn line_axes(flight: &Flight, eq: &Equilibrium) -> Matrix3<f64> {
+    let line = flight.line();
+    let at = eq.state.position + eq.state.orientation.transform_vector(&line.attachment);
+    let along = (line.anchor - at).normalize();
+    let lateral = Vector3::z().cross(&along);
+    let lateral = if lateral.norm() > 1e-9 {
+        lateral.normalize()
+    } else {
+        Vector3::y()
+    };
+    let vertical = along.cross(&lateral);
+    Matrix3::from_columns(&[along, vertical, lateral])
+}
+
+/// The eigenvector of `a` for `l` by inverse iteration (complex LU).
+fn eigenvector(a: &StateMatrix, l: Complex<f64>) -> CVector {
+    let shift = l + Complex::new(1e-9, 1e-9) * l.norm().max(1e-6);
+    let m: SMatrix<Complex<f64>, STATES, STATES> =
+        a.map(|x| Complex::new(x, 0.0)) - SMatrix::identity() * shift;
+    let lu = m.lu();
+    let mut v = CVector::from_element(Complex::new(1.0, 0.0));
+    for _ in 0..3 {
+        if let Some(w) = lu.solve(&v) {
+            let n = w.norm();
+            if n > 0.0 && n.is_finite() {
+                v = w / Complex::new(n, 0.0);
+            }
+        }
+    }
+    v
+}
+
+/// Kinetic-energy shares of the motions of [`MOTIONS`].
+fn shares(
+    v: &CVector,
+    axes: &Matrix3<f64>,
+    r: &Matrix3<f64>,
+    inertia: &Matrix3<f64>,
+    mass: f64,
+) -> [f64; 5] {
+    let part = |k: usize| Vector3::new(v[k], v[k + 1], v[k + 2]);
+    let y = part(0);
+    let theta_body = part(3);
+    let theta = r.map(|x| Complex::new(x, 0.0)) * theta_body;
+    let along = |u: Vector3<f64>, w: &Vector3<Complex<f64>>| {
+        (w[0] * u.x + w[1] * u.y + w[2] * u.z).norm_sqr()
+    };
+    let lateral = axes.column(2).into_owned();
+    let mut e = [0.0; 5];
+    for (k, share) in e.iter_mut().take(3).enumerate() {
+        *share = mass * along(axes.column(k).into_owned(), &y);
+    }
+    let pitch = lateral;
+    e[3] = (pitch.transpose() * inertia * pitch)[0] * along(pitch, &theta);
+    for u in [axes.column(0).into_owned(), axes.column(1).into_owned()] {
+        e[4] += (u.transpose() * inertia * u)[0] * along(u, &theta);
+    }
+    let total: f64 = e.iter().sum::<f64>().max(f64::MIN_POSITIVE);
+    e.map(|x| x / total)
+}
+
+fn name(shares: &[f64; 5]) -> String {
+    let mut order: Vec<usize> = (0..5).collect();
+    order.sort_by(|&a, &b| shares[b].total_cmp(&shares[a]));
+    let (first, second) = (order[0], order[1]);
+    if shares[second] > 0.25 {
+        format!("{} + {}", MOTIONS[first], MOTIONS[second])
+    } else {
+        MOTIONS[first].to_string()
+    }
+}
+
+/// The modes as short text lines (the TUI's list and `kite check`).
+pub fn lines(r: &ModesReport) -> Vec<String> {
+    r.modes
+        .iter()
+        .map(|m| {
+            let kind = if m.imag > 0.0 {
+                format!("{:.2} Hz, zeta {:+.2}", m.frequency_hz, m.damping_ratio)
+            } else {
+                format!("real, tau {:+.2} s", -1.0 / m.real)
+            };
+            format!(
+                "{:<28} sigma {:+.3}/s  {kind}  {}",
+                m.motion,
+                m.real,
+                if m.stable { "decays" } else { "GROWS" }
+            )
+        })
+        .collect()
+}
+
+/// The equilibrium and the modes as text (`kite check`).
+pub fn render(r: &ModesReport) -> String {
+    let Some(e) = &r.equilibrium else {
+        return "  dynamics: no equilibrium of the kite on its line\n".into();
+    };
+    let [x, y, z] = e.orientation_deg;
+    let mut s = format!(
+        "  equilibrium on the line: elevation {:.1} deg, tension {:.2} N, attitude ({x:+.1}, {y:+.1}, {z:+.1}) deg ({:.1} deg from the file's)\n  modes (linearised tethered kite), least damped first:\n",
+        e.elevation_deg, e.tension, e.turn_deg
+    );
+    for line in lines(r) {
+        s += &format!("    {line}\n");
+    }
+    s
 }

@@ -1,0 +1,81 @@
+//! The one kite verdict: the conjunction of the tests a kite must pass to
+//! fly, in the order they can fail, naming the first that fails.
+//!
+//! 1. geometry (§7: no two primitives overlap along the wind) — else
+//!    `unflyable`;
+//! 2. the string pulls down at the file's attitude (§7, `f_string·g > 0`)
+//!    — else `string_pushes`;
+//! 3. the flight model has an equilibrium near the file's attitude
+//!    ([`crate::equilibrium`]) — else `no_equilibrium`;
+//! 4. the static test there on §7's Jacobian `J = ∂T_kite/∂Θ`: no static
+//!    divergence (every real eigenvalue of `J` negative; see
+//!    `check::StaticReport::stable` for why not the paper's stricter
+//!    symmetric-part test, which is still reported) — else
+//!    `statically_unstable`;
+//! 5. every mode of the linearised tethered kite decays
+//!    ([`crate::modes`]) — else `dynamically_unstable`.
+
+use serde::Serialize;
+
+/// The verdict: `stable` exactly when every test passes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Verdict {
+    /// Every test passes: the kite will fly.
+    Stable,
+    /// Primitives overlap along the wind (geometric refusal).
+    Unflyable,
+    /// The string would have to push the kite up.
+    StringPushes,
+    /// No equilibrium of the tethered kite near the file's attitude.
+    NoEquilibrium,
+    /// A divergent direction of §7's Jacobian at equilibrium.
+    StaticallyUnstable,
+    /// A growing mode of the linearised tethered kite.
+    DynamicallyUnstable,
+}
+
+impl Verdict {
+    /// The name `kite check --json` prints.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Stable => "stable",
+            Self::Unflyable => "unflyable",
+            Self::StringPushes => "string_pushes",
+            Self::NoEquilibrium => "no_equilibrium",
+            Self::StaticallyUnstable => "statically_unstable",
+            Self::DynamicallyUnstable => "dynamically_unstable",
+        }
+    }
+}
+
+/// What each test found.
+pub struct Tests {
+    /// Overlapping primitive pairs.
+    pub overlaps: usize,
+    /// The string pulls down.
+    pub pulls_down: bool,
+    /// An equilibrium was found.
+    pub equilibrium: bool,
+    /// No static divergence at the equilibrium.
+    pub statically_stable: bool,
+    /// Every mode decays.
+    pub dynamically_stable: bool,
+}
+
+/// The first failing test, or `Stable`.
+pub fn verdict(t: &Tests) -> Verdict {
+    if t.overlaps > 0 {
+        Verdict::Unflyable
+    } else if !t.pulls_down {
+        Verdict::StringPushes
+    } else if !t.equilibrium {
+        Verdict::NoEquilibrium
+    } else if !t.statically_stable {
+        Verdict::StaticallyUnstable
+    } else if !t.dynamically_stable {
+        Verdict::DynamicallyUnstable
+    } else {
+        Verdict::Stable
+    }
+}
