@@ -1,37 +1,9 @@
 //! End-to-end tests of `omniad info`, `coeffs eval`, `simulate`, `panel`, `lab`.
 
-use std::io::Write;
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output, Stdio};
+mod common;
 
-fn omniad() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_omniad"))
-}
-
-fn plate() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("data/plate.omni")
-}
-
-fn run_with_stdin(args: &[&str], stdin: &str) -> Output {
-    let mut child = omniad()
-        .args(args)
-        .stdin(Stdio::piped())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("spawn");
-    child
-        .stdin
-        .take()
-        .expect("stdin")
-        .write_all(stdin.as_bytes())
-        .expect("write");
-    child.wait_with_output().expect("wait")
-}
-
-fn text(b: &[u8]) -> String {
-    String::from_utf8_lossy(b).into_owned()
-}
+use common::{omniad, plate, run_with_stdin, text};
+use std::path::Path;
 
 #[test]
 fn info_prints_text_and_json() {

@@ -2,18 +2,11 @@
 //! clear error naming the input, endless inputs are refused at once, absurd
 //! work is refused up front, and no failed command damages an existing file.
 
-use std::io::Write;
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output, Stdio};
+mod common;
+
+use common::{omniad, plate, run_with_stdin};
+use std::process::{Output, Stdio};
 use std::time::{Duration, Instant};
-
-fn omniad() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_omniad"))
-}
-
-fn plate() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("data/plate.omni")
-}
 
 fn stderr(o: &Output) -> String {
     String::from_utf8_lossy(&o.stderr).into_owned()
@@ -105,20 +98,11 @@ fn simulate_streams_every_row_of_a_long_run() {
 
 #[test]
 fn coeffs_eval_accepts_tiny_but_valid_directions() {
-    let mut child = omniad()
-        .args(["coeffs", "eval", plate().to_str().expect("path")])
-        .stdin(Stdio::piped())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("spawn");
-    child
-        .stdin
-        .take()
-        .expect("stdin")
-        .write_all(b"ex,ey,ez\n1e-200,0,0\n0,-1e-300,0\n")
-        .expect("write");
-    let out = child.wait_with_output().expect("wait");
+    let p = plate();
+    let out = run_with_stdin(
+        &["coeffs", "eval", p.to_str().expect("path")],
+        "ex,ey,ez\n1e-200,0,0\n0,-1e-300,0\n",
+    );
     assert!(out.status.success(), "{}", stderr(&out));
     let text = String::from_utf8_lossy(&out.stdout);
     let mut rows = text.lines().skip(1);

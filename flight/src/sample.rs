@@ -7,7 +7,7 @@
 //! `F_aero = m a - (m + s μ l) g - F_tether`, with
 //! - `a` the measured acceleration of the kite (IMU 1, NED), m/s²;
 //! - `F_tether = -T p̂`: the tension `T` measured at the ground station
-//!   (kg in the log, times 9.81), pulling from the kite towards the ground
+//!   (kg-force in the log, times [`KGF`]), pulling from the kite towards the ground
 //!   station along the unit vector `p̂` of the kite's position — a straight
 //!   tether (sag and the tether's own drag are left to the candidate
 //!   effects);
@@ -25,13 +25,17 @@ use nalgebra::{Rotation3, Vector3};
 /// The assumptions of the force balance, in words, for the report.
 pub const ASSUMPTIONS: [&str; 7] = [
     "the airborne system (canopy, equipment, control unit) moves as one body with the canopy IMU's acceleration (kite_1_ax..az, NED)",
-    "the tether is straight from the kite to the ground station; its tension at the kite equals the ground station's load-cell force (ground_tether_force x 9.81 N)",
+    "the tether is straight from the kite to the ground station; its tension at the kite equals the ground station's load-cell force (ground_tether_force in kgf x 9.80665 N)",
     "the kite carries the given share of the tether's weight (default one half: a line hanging symmetrically)",
     "air velocity in the body frame (FRD) from the Pitot airspeed and the vane's angle of attack, no sideslip (not measured in this flight), as the firmware computes it",
     "air density from the Pitot's temperature and the ISA pressure at the kite's height above the ground station (elevation -5 m)",
     "angular acceleration by central differences of the body rates within a cycle",
     "the force is expressed in the body frame (FRD) by the attitude of IMU 1 (3-2-1 Euler angles)",
 ];
+
+/// One kilogram-force in newtons (standard gravity, by definition): the
+/// log gives the tether force in kg, as the firmware's reader converts it.
+pub const KGF: f64 = 9.806_65;
 
 /// Elevation of the ground station above sea level, m (README).
 pub const GROUND_ELEVATION: f64 = -5.0;
@@ -113,7 +117,7 @@ fn sample(
     let attitude = frd_to_ned(r.get(Col::Roll), r.get(Col::Pitch), r.get(Col::Yaw));
     let p = position_ned(r.get(Col::North), r.get(Col::East), r.get(Col::Height));
     let dir_ned = p.try_normalize(1e-9)?;
-    let tension = r.get(Col::TetherForce) * 9.81;
+    let tension = r.get(Col::TetherForce) * KGF;
     let length = r.get(Col::Distance);
     let a_ned = Vector3::new(r.get(Col::Ax), r.get(Col::Ay), r.get(Col::Az));
     let carried = kite.tether_weight_share * kite.tether_mass_per_metre() * length;
@@ -181,7 +185,7 @@ mod tests {
         let kite = KiteProperties::default();
         let s = samples(&cycle, &kite);
         let carried = 0.5 * kite.tether_mass_per_metre() * 100.0;
-        let expected = -(kite.mass + carried) * 9.81 - 100.0 * 9.81;
+        let expected = -(kite.mass + carried) * 9.81 - 100.0 * KGF;
         assert_eq!(s.len(), 1);
         assert!((s[0].aero_force - Vector3::new(0.0, 0.0, expected)).norm() < 1e-9);
         assert!((s[0].tether_dir - Vector3::new(0.0, 0.0, -1.0)).norm() < 1e-12);
