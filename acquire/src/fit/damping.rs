@@ -2,20 +2,17 @@
 //! the projection onto positive definite matrices (§4.1).
 
 use nalgebra::{Matrix3, SMatrix, Vector3};
+use omniad_core::math::{symmetric_from_six, symmetric_times_vector_rows};
 
 /// `D Ω = M(Ω) d` with `d = [d11, d22, d33, d12, d13, d23]`.
 pub fn omega_map(w: &Vector3<f64>) -> SMatrix<f64, 3, 6> {
-    SMatrix::<f64, 3, 6>::from_row_slice(&[
-        w.x, 0.0, 0.0, w.y, w.z, 0.0, //
-        0.0, w.y, 0.0, w.x, 0.0, w.z, //
-        0.0, 0.0, w.z, 0.0, w.x, w.y,
-    ])
+    let [a, b, c] = symmetric_times_vector_rows(w);
+    SMatrix::<f64, 3, 6>::from_row_slice(&[a, b, c].concat())
 }
 
 /// The symmetric matrix of six parameters.
 pub fn matrix(d: &[f64; 6]) -> Matrix3<f64> {
-    let [a, b, c, xy, xz, yz] = *d;
-    Matrix3::new(a, xy, xz, xy, b, yz, xz, yz, c)
+    symmetric_from_six(*d)
 }
 
 /// The nearest (Frobenius) symmetric matrix whose eigenvalues are at least
