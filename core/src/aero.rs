@@ -7,24 +7,7 @@ use crate::lanes::{LaneScalar, SimdCoefficients, SimdKernel};
 use crate::math::{lit, norm, Real};
 use nalgebra::Vector3;
 
-/// A force (N) and torque (N m) pair, both in the body frame unless stated.
-#[derive(Clone, Copy, Debug, PartialEq, Default)]
-pub struct Wrench<T: Real> {
-    /// Force, N.
-    pub force: Vector3<T>,
-    /// Torque about the centre of mass, N m.
-    pub torque: Vector3<T>,
-}
-
-impl<T: Real> Wrench<T> {
-    /// The zero wrench.
-    pub fn zero() -> Self {
-        Self {
-            force: Vector3::zeros(),
-            torque: Vector3::zeros(),
-        }
-    }
-}
+pub use crate::wrench::Wrench;
 
 /// The non-dimensional coefficients `C_F(E)`, `C_T(E)` at one direction
 /// (body frame).

@@ -59,6 +59,7 @@ pub mod reference;
 pub mod rigid_body;
 pub mod sh;
 pub mod spin_coupling;
+pub mod wrench;
 
 pub use aero::Wrench;
 pub use coefficients::{Coefficients, ModelError};

@@ -1,9 +1,9 @@
 //! Rigid-body state and equations of motion, eqs. (1)-(2).
 
-use crate::aero::Wrench;
 use crate::coefficients::{Coefficients, MassProperties, ModelError};
 use crate::lanes::LaneScalar;
 use crate::math::{symmetric_from_six, vector_is_finite, Real};
+use crate::wrench::Wrench;
 use nalgebra::{Matrix3, Quaternion, UnitQuaternion, Vector3};
 
 /// Mass properties in the model's scalar type, with the inverse inertia

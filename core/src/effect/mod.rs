@@ -16,8 +16,8 @@ mod storage;
 pub use kinds::{EffectKind, MAX_PARAMS};
 pub use storage::PAYLOAD_VERSION;
 
-use crate::aero::Wrench;
 use crate::math::{symmetric_from_six, Real};
+use crate::wrench::Wrench;
 use nalgebra::{Matrix3, Vector3};
 
 /// Dynamic viscosity of air used by [`EffectKind::LinearDrag`], kg/(m s)

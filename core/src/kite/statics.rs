@@ -2,9 +2,9 @@
 //! optimal string attachment line, eq. (16).
 
 use super::{Conditions, Kite, KiteError, Primitive};
-use crate::aero::Wrench;
 use crate::lanes::LaneScalar;
 use crate::math::{norm, vector_is_finite, Real};
+use crate::wrench::Wrench;
 use nalgebra::{UnitQuaternion, Vector3};
 
 /// The air's wrench on the whole kite about its centre of mass, body frame:
