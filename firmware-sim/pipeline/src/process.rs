@@ -58,6 +58,12 @@ impl Forces<f32> for KiteForces<'_> {
             .inverse_transform_vector(&self.tether_world);
         w
     }
+
+    /// A model's added mass (a named effect) joins the kite's mass in the
+    /// look-ahead, as in every other simulation of the core.
+    fn added_mass(&self) -> Option<nalgebra::Matrix3<f32>> {
+        self.air.added_mass()
+    }
 }
 
 impl<'a> Processor<'a> {
@@ -93,7 +99,15 @@ impl<'a> Processor<'a> {
         let n = q.coords.dot(&q.coords).root();
         let attitude = UnitQuaternion::new_unchecked(q / n);
         let (v_body, omega) = air_inputs(f);
-        let wrench = self.wrench(&v_body, &omega);
+        let wrench = if self.model.effects().is_empty() && self.model.gravity_coupling().is_none() {
+            self.wrench(&v_body, &omega)
+        } else {
+            // Terms that need the attitude (buoyancy, gravity coupling) and
+            // the named effects: the whole air force, as `AirForces`.
+            let g_body = attitude.inverse_transform_vector(&self.environment.gravity);
+            self.model
+                .wrench_in_gravity(&v_body, &omega, &g_body, AIR_DENSITY)
+        };
 
         // Quasi-steady: the tether balances aerodynamic force plus weight.
         let net = attitude.transform_vector(&wrench.force) + self.environment.gravity * self.mass;
