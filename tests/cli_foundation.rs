@@ -223,3 +223,30 @@ fn lab_lists_its_measurements_and_names_a_missing_set() {
         text(&out.stderr)
     );
 }
+
+#[test]
+fn info_lists_named_effects() {
+    use omniad_core::effect::{Effect, EffectKind};
+    let mut m =
+        omniad_core::file::decode::<f64>(&std::fs::read(plate()).expect("read")).expect("plate");
+    m.set_effect(Effect::new(EffectKind::Buoyancy, &[0.002]).expect("effect"))
+        .expect("set");
+    let dir = tempfile::tempdir().expect("tempdir");
+    let path = dir.path().join("buoyant.omni");
+    let mut buf = vec![0u8; omniad_core::file::MAX_FILE_SIZE];
+    let n = omniad_core::file::encode(&m, &mut buf).expect("encode");
+    std::fs::write(&path, &buf[..n]).expect("write");
+    let out = omniad().arg("info").arg(&path).output().expect("run");
+    assert!(
+        text(&out.stdout).contains("effect:            buoyancy [0.002"),
+        "{}",
+        text(&out.stdout)
+    );
+    let out = omniad()
+        .args(["info", "--json"])
+        .arg(&path)
+        .output()
+        .expect("run");
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).expect("json");
+    assert_eq!(v["effects"][0]["effect"], "buoyancy");
+}

@@ -97,6 +97,10 @@ fn summary(m: &Coefficients<f64>) -> serde_json::Value {
             "matrix_g_rows": [g.g.row(0).iter().collect::<Vec<_>>(), g.g.row(1).iter().collect::<Vec<_>>(), g.g.row(2).iter().collect::<Vec<_>>()],
             "buoyancy_volume_m3": g.buoyancy_volume(m.reference_length()),
         })),
+        "effects": m.effects().iter().map(|e| json!({
+            "effect": e.kind.name(),
+            "params": &e.params[..e.kind.param_count().min(e.params.len())],
+        })).collect::<Vec<_>>(),
     })
 }
 
@@ -149,10 +153,17 @@ fn print_text(m: &Coefficients<f64>, s: &serde_json::Value) {
     }
     println!("extensions:        {}", m.extensions().len());
     if let Some(g) = m.gravity_coupling() {
-        println!(
-            "gravity coupling:  buoyancy-equivalent volume {:.3e} m^3 (F = ρL³ G Rᵀg)",
-            g.buoyancy_volume(m.reference_length())
-        );
+        let v = g.buoyancy_volume(m.reference_length());
+        let note = if v < 0.0 {
+            " — negative: not buoyancy (added mass or a misattribution; see omniad residual)"
+        } else {
+            ""
+        };
+        println!("gravity coupling:  buoyancy-equivalent volume {v:.3e} m^3 (F = ρL³ G Rᵀg){note}");
+    }
+    for e in m.effects() {
+        let n = e.kind.param_count().min(e.params.len());
+        println!("effect:            {} {:?}", e.kind.name(), &e.params[..n]);
     }
     if let Some(s) = m.spin_coupling() {
         println!(
