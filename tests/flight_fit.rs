@@ -146,3 +146,24 @@ fn triple_tension(text: &str) -> String {
     }
     out
 }
+
+#[test]
+fn bad_flight_options_are_errors_naming_them() {
+    let run = |extra: &[&str]| {
+        let out = Command::new(env!("CARGO_BIN_EXE_omniad"))
+            .args(["flight", "fit"])
+            .arg(bundled())
+            .args(extra)
+            .output()
+            .expect("run");
+        assert!(!out.status.success(), "{extra:?}");
+        String::from_utf8_lossy(&out.stderr).into_owned()
+    };
+    assert!(run(&["--train", "1-2", "--test", "2"]).contains("cycle 2 is both"));
+    assert!(run(&["--train", "1-2", "--test", "9"]).contains("_0009.csv"));
+    assert!(run(&["--train", "2-1", "--test", "3"]).contains("--train"));
+    assert!(run(&["--train", "1-2", "--test", "3", "--mass", "nan"]).contains("mass"));
+    assert!(
+        run(&["--train", "1-2", "--test", "3", "--tether-diameter=-1"]).contains("tether_diameter")
+    );
+}

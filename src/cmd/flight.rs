@@ -44,6 +44,19 @@ pub struct FitArgs {
     /// Share of the tether's weight the kite carries, 0-1 (default 0.5).
     #[arg(long)]
     pub tether_weight_share: Option<f64>,
+    /// Of the airborne mass, the control unit's hanging below the canopy, kg
+    /// (default 22.0).
+    #[arg(long)]
+    pub kcu_mass: Option<f64>,
+    /// Tether diameter, m (default 0.01).
+    #[arg(long)]
+    pub tether_diameter: Option<f64>,
+    /// Tether density, kg/m³ (default 724, Dyneema).
+    #[arg(long)]
+    pub tether_density: Option<f64>,
+    /// Reference length L of the OmniAD model, m (default 9.2).
+    #[arg(long)]
+    pub reference_length: Option<f64>,
     /// Print the report as JSON.
     #[arg(long)]
     pub json: bool,
@@ -61,8 +74,17 @@ fn fit(a: &FitArgs) -> Result<()> {
     if let Some(m) = a.mass {
         kite.mass = m;
     }
-    if let Some(s) = a.tether_weight_share {
-        kite.tether_weight_share = s;
+    let overrides = [
+        (&mut kite.tether_weight_share, a.tether_weight_share),
+        (&mut kite.kcu_mass, a.kcu_mass),
+        (&mut kite.tether_diameter, a.tether_diameter),
+        (&mut kite.tether_density, a.tether_density),
+        (&mut kite.reference_length, a.reference_length),
+    ];
+    for (slot, value) in overrides {
+        if let Some(v) = value {
+            *slot = v;
+        }
     }
     let cfg = FlightFitConfig {
         dir: a.dir.clone(),
