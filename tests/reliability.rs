@@ -206,7 +206,10 @@ fn a_stray_frame_index_is_refused_at_once_by_fit_and_reconstruct() {
         .open(&take)
         .expect("open");
     writeln!(f, "4294967295,m0,100,100").expect("append");
-    let lines = std::fs::read_to_string(&take).expect("read").lines().count();
+    let lines = std::fs::read_to_string(&take)
+        .expect("read")
+        .lines()
+        .count();
     let line = format!("drop-01.csv:{lines}");
     let model = dir.path().join("m.omni");
     let model = model.to_str().expect("utf-8");
@@ -227,11 +230,16 @@ fn absurd_generator_and_panel_options_are_refused_naming_the_option() {
     let dir = tempfile::tempdir().expect("tempdir");
     let out = dir.path().join("s");
     let out = out.to_str().expect("utf-8");
-    fails_naming(&["synth", out, "--drops", "0", "--spins", "0"], &["--drops"]);
+    fails_naming(
+        &["synth", out, "--drops", "0", "--spins", "0"],
+        &["--drops"],
+    );
     fails_naming(&["synth", out, "--drops", "100000"], &["--drops"]);
     for size in ["0,0.5,0.02", "0.3,-0.5,0.02", "0.3,0.5,0"] {
         fails_naming(
-            &["panel", "--shape", "plate", "--size", size, "--mass", "0.05"],
+            &[
+                "panel", "--shape", "plate", "--size", size, "--mass", "0.05",
+            ],
             &["--size"],
         );
     }
@@ -243,8 +251,14 @@ fn synth_refuses_a_non_empty_folder_unless_forced() {
     let keep = dir.path().join("notes.txt");
     std::fs::write(&keep, "the user's notes").expect("write");
     let out = dir.path().to_str().expect("utf-8");
-    fails_naming(&["synth", out, "--drops", "1", "--spins", "0"], &["--force"]);
-    assert!(!dir.path().join("recording.toml").exists(), "nothing written");
+    fails_naming(
+        &["synth", out, "--drops", "1", "--spins", "0"],
+        &["--force"],
+    );
+    assert!(
+        !dir.path().join("recording.toml").exists(),
+        "nothing written"
+    );
     let forced = omniad()
         .args(["synth", out, "--drops", "1", "--spins", "0", "--force"])
         .output()
@@ -288,7 +302,10 @@ fn import_tracks_refuses_options_that_would_write_malformed_rows() {
         (vec!["--map", "pt1=m0", "--height", "NaN"], "--height"),
         (vec!["--map", "pt1=m0", "--height", "0"], "--height"),
         (vec!["--map", "pt1=m0", "--height=-720"], "--height"),
-        (vec!["--map", "pt1=m0", "--min-likelihood", "NaN"], "--min-likelihood"),
+        (
+            vec!["--map", "pt1=m0", "--min-likelihood", "NaN"],
+            "--min-likelihood",
+        ),
         (
             vec!["--map", "pt1=m0", "--first-frame", "9223372036854775807"],
             "--first-frame",

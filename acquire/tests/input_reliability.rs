@@ -53,7 +53,10 @@ fn frame_indices_are_bounded_naming_file_line_and_value() {
         set(dir.path());
         let take = dir.path().join("drop-01.csv");
         edit(&take, |t| format!("{t}{row}\n"));
-        let lines = std::fs::read_to_string(&take).expect("read").lines().count();
+        let lines = std::fs::read_to_string(&take)
+            .expect("read")
+            .lines()
+            .count();
         let start = std::time::Instant::now();
         let e = RecordingSet::load(dir.path())
             .expect_err("stray row")
@@ -117,7 +120,12 @@ fn csv_files_with_bom_crlf_or_cr_read_like_plain_ones() {
     let plain = RecordingSet::load(dir.path()).expect("load");
     let truth = dir.path().join("truth/drop-01.csv");
     let states = read_states(&truth).expect("states");
-    for (bom, eol) in [("\u{feff}", "\n"), ("", "\r\n"), ("\u{feff}", "\r\n"), ("", "\r")] {
+    for (bom, eol) in [
+        ("\u{feff}", "\n"),
+        ("", "\r\n"),
+        ("\u{feff}", "\r\n"),
+        ("", "\r"),
+    ] {
         for f in ["drop-01.csv", "drop-02.csv", "truth/drop-01.csv"] {
             let p = dir.path().join(f);
             edit(&p, |t| {
@@ -193,7 +201,9 @@ fn imports_never_write_malformed_rows() {
         ),
     ];
     for (o, needles) in bad_options {
-        let e = import::read_dltdv(&dlt, &o).expect_err("refused").to_string();
+        let e = import::read_dltdv(&dlt, &o)
+            .expect_err("refused")
+            .to_string();
         assert_names(&e, needles);
     }
     // Frame numbers that would wrap or leave the format's range.

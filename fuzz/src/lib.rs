@@ -42,7 +42,10 @@ pub fn tracks(data: &[u8]) {
     };
     let path = Path::new("fuzz.csv");
     if let Ok(epochs) = parse_markers(path, text, &object, 60.0) {
-        assert!(epochs.len() as i64 <= MAX_TAKE_FRAMES, "take length bounded");
+        assert!(
+            epochs.len() as i64 <= MAX_TAKE_FRAMES,
+            "take length bounded"
+        );
     }
     let _ = parse_poses(path, text);
 }

@@ -139,11 +139,29 @@ const MAX_GUST: f64 = 30.0;
 fn check_inputs(wind: Option<f64>, flight: Option<(f64, f64)>) -> Result<()> {
     let mut checks = Vec::with_capacity(3);
     if let Some(w) = wind {
-        checks.push(("--wind", w, w > 0.0 && w <= MAX_WIND, "above 0 and at most", MAX_WIND));
+        checks.push((
+            "--wind",
+            w,
+            w > 0.0 && w <= MAX_WIND,
+            "above 0 and at most",
+            MAX_WIND,
+        ));
     }
     if let Some((s, g)) = flight {
-        checks.push(("--seconds", s, s > 0.0 && s <= MAX_SECONDS, "above 0 and at most", MAX_SECONDS));
-        checks.push(("--gust", g, (0.0..=MAX_GUST).contains(&g), "from 0 to", MAX_GUST));
+        checks.push((
+            "--seconds",
+            s,
+            s > 0.0 && s <= MAX_SECONDS,
+            "above 0 and at most",
+            MAX_SECONDS,
+        ));
+        checks.push((
+            "--gust",
+            g,
+            (0.0..=MAX_GUST).contains(&g),
+            "from 0 to",
+            MAX_GUST,
+        ));
     }
     for (name, v, ok, range, max) in checks {
         if !ok {

@@ -61,7 +61,10 @@ impl Camera {
             return Err(Error::at_field(
                 path,
                 "camera.fps",
-                format!("must be from {MIN_FPS} to {MAX_FPS} frames per second, found {}", c.fps),
+                format!(
+                    "must be from {MIN_FPS} to {MAX_FPS} frames per second, found {}",
+                    c.fps
+                ),
             ));
         }
         finite(path, "camera.cx", &[c.cx, c.cy])?;
@@ -111,7 +114,10 @@ impl Camera {
                 let (d, jd) = self.distort(&n);
                 let shift = (d - n).component_mul(&self.focal).norm();
                 if !(jd.determinant() > 0.0) {
-                    return Err(format!("it folds the image over near pixel ({:.0}, {:.0})", px.x, px.y));
+                    return Err(format!(
+                        "it folds the image over near pixel ({:.0}, {:.0})",
+                        px.x, px.y
+                    ));
                 }
                 if !(shift <= limit) {
                     return Err(format!(

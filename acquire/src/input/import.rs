@@ -101,7 +101,10 @@ impl ImportOptions {
             ));
         }
         if !self.pixel_offset.is_finite() {
-            return bad(format!("pixel offset must be finite, found {}", self.pixel_offset));
+            return bad(format!(
+                "pixel offset must be finite, found {}",
+                self.pixel_offset
+            ));
         }
         if self.camera == 0 {
             return bad("--camera: DLTdv cameras are numbered from 1".into());
@@ -241,7 +244,12 @@ pub fn read_dltdv(path: &Path, o: &ImportOptions) -> Result<Vec<Row>> {
                 number(path, lineno, header[*j], ys)?,
             );
             let (u, v) = finite_pixel(path, lineno, pixel)?;
-            out.push((frame_at(path, lineno, o.first_frame, row)?, marker.clone(), u, v));
+            out.push((
+                frame_at(path, lineno, o.first_frame, row)?,
+                marker.clone(),
+                u,
+                v,
+            ));
         }
     }
     Ok(out)
@@ -299,7 +307,13 @@ pub fn read_deeplabcut(path: &Path, o: &ImportOptions) -> Result<Vec<Row>> {
             continue;
         }
         let lineno = n + 1;
-        let frame = dlc_frame(path, lineno, cells.first().copied(), o.first_frame, n - co - 1)?;
+        let frame = dlc_frame(
+            path,
+            lineno,
+            cells.first().copied(),
+            o.first_frame,
+            n - co - 1,
+        )?;
         if !frames.insert(frame) {
             return Err(Error::at_line(
                 path,

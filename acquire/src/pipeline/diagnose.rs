@@ -29,7 +29,12 @@ pub(super) fn first_fit_failed(
     for s in frames {
         if let Some(t) = per.get_mut(s.take) {
             t.frames += 1;
-            let finite = s.force.iter().chain(&s.torque).chain(&s.velocity).all(|v| v.is_finite());
+            let finite = s
+                .force
+                .iter()
+                .chain(&s.torque)
+                .chain(&s.velocity)
+                .all(|v| v.is_finite());
             if finite {
                 t.weights = t.weights.max(s.force.norm() / weight);
             } else {
@@ -50,7 +55,12 @@ pub(super) fn first_fit_failed(
             take.name, t.non_finite, t.frames, t.weights
         );
     }
-    if let Some((take, s)) = set.takes.iter().zip(smoothed).max_by_key(|(_, s)| s.stats.restarts) {
+    if let Some((take, s)) = set
+        .takes
+        .iter()
+        .zip(smoothed)
+        .max_by_key(|(_, s)| s.stats.restarts)
+    {
         why += &format!(
             "; the filter restarted most in take `{}` ({} times)",
             take.name, s.stats.restarts
