@@ -113,13 +113,14 @@ impl Camera {
                 let n = (px - self.centre).component_div(&self.focal);
                 let (d, jd) = self.distort(&n);
                 let shift = (d - n).component_mul(&self.focal).norm();
-                if !(jd.determinant() > 0.0) {
+                let det = jd.determinant();
+                if det.is_nan() || det <= 0.0 {
                     return Err(format!(
                         "it folds the image over near pixel ({:.0}, {:.0})",
                         px.x, px.y
                     ));
                 }
-                if !(shift <= limit) {
+                if shift.is_nan() || shift > limit {
                     return Err(format!(
                         "it moves pixel ({:.0}, {:.0}) by {shift:.3e} px, more than half the image diagonal",
                         px.x, px.y

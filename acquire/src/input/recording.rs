@@ -297,7 +297,7 @@ fn in_front(
             continue;
         };
         let depth = camera.to_camera(&(p + q * body)).z;
-        if !(depth > crate::input::camera::MIN_DEPTH) {
+        if depth.is_nan() || depth <= crate::input::camera::MIN_DEPTH {
             return Err(Error::at_field(
                 path,
                 format!("take[{i}].initial_position"),
