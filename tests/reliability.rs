@@ -317,3 +317,23 @@ fn import_tracks_refuses_options_that_would_write_malformed_rows() {
         assert!(!Path::new(out).exists(), "{args:?} wrote nothing");
     }
 }
+
+#[test]
+fn a_fit_the_data_cannot_support_names_the_take() {
+    // 70 px tracking noise: the first reconstruction is meaningless, and
+    // the error says which take and which inputs, not just "non-finite".
+    let dir = tempfile::tempdir().expect("tempdir");
+    let set = dir.path().join("noisy");
+    let set = set.to_str().expect("utf-8");
+    let made = omniad()
+        .args(["synth", set, "--noise", "70"])
+        .output()
+        .expect("run");
+    assert!(made.status.success(), "{}", stderr(&made));
+    let model = dir.path().join("m.omni");
+    fails_naming(
+        &["fit", set, "-o", model.to_str().expect("utf-8")],
+        &["take `drop-0", "recording.toml"],
+    );
+    assert!(!model.exists(), "nothing written");
+}
