@@ -1,9 +1,8 @@
 //! Issue 18, one test per class of bad input the readers must refuse (or,
 //! for other encodings, accept): bounded frame indices, impossible
-//! recording sets, CSV encodings, tracker imports. Each error names the
-//! file and the line, field or option.
+//! recording sets, CSV encodings (tracker imports: `input::import`'s
+//! tests). Each error names the file and the line or field.
 
-use omniad_acquire::input::import::{self, ImportOptions};
 use omniad_acquire::input::recording::RecordingSet;
 use omniad_acquire::input::state_csv::read_states;
 use omniad_acquire::synth::write::generate;
@@ -137,101 +136,4 @@ fn csv_files_with_bom_crlf_or_cr_read_like_plain_ones() {
         assert_eq!(again.takes, plain.takes, "{eol:?}");
         assert_eq!(read_states(&truth).expect("states"), states, "{eol:?}");
     }
-}
-
-fn opts(map: &[(&str, &str)]) -> ImportOptions {
-    ImportOptions {
-        mapping: map
-            .iter()
-            .map(|(a, b)| (a.to_string(), b.to_string()))
-            .collect(),
-        ..ImportOptions::default()
-    }
-}
-
-#[test]
-fn imports_never_write_malformed_rows() {
-    let dir = tempfile::tempdir().expect("tempdir");
-    let dlt = dir.path().join("xypts.csv");
-    std::fs::write(
-        &dlt,
-        "\u{feff}pt1_cam1_X,pt1_cam1_Y,pt2_cam1_X,pt2_cam1_Y\r\n1,2,3,4\r\n",
-    )
-    .expect("write");
-    let ok = import::read_dltdv(&dlt, &opts(&[("pt1", "m0")])).expect("BOM + CRLF");
-    assert_eq!(ok, vec![(0, "m0".to_string(), 1.0, 2.0)]);
-    let bad_options: [(ImportOptions, &[&str]); 8] = [
-        (opts(&[("pt1", "m,0")]), &["--map", "comma"]),
-        (opts(&[("pt1", "")]), &["--map", "empty"]),
-        (opts(&[("pt1", "m0"), ("pt2", "m0")]), &["pt1", "pt2", "m0"]),
-        (
-            ImportOptions {
-                y_up_height: Some(f64::NAN),
-                ..opts(&[("pt1", "m0")])
-            },
-            &["--height", "NaN"],
-        ),
-        (
-            ImportOptions {
-                y_up_height: Some(0.0),
-                ..opts(&[("pt1", "m0")])
-            },
-            &["--height"],
-        ),
-        (
-            ImportOptions {
-                y_up_height: Some(-5.0),
-                ..opts(&[("pt1", "m0")])
-            },
-            &["--height"],
-        ),
-        (
-            ImportOptions {
-                min_likelihood: f64::NAN,
-                ..opts(&[("pt1", "m0")])
-            },
-            &["--min-likelihood"],
-        ),
-        (
-            ImportOptions {
-                first_frame: i64::MAX,
-                ..opts(&[("pt1", "m0")])
-            },
-            &["--first-frame"],
-        ),
-    ];
-    for (o, needles) in bad_options {
-        let e = import::read_dltdv(&dlt, &o)
-            .expect_err("refused")
-            .to_string();
-        assert_names(&e, needles);
-    }
-    // Frame numbers that would wrap or leave the format's range.
-    let dlc = dir.path().join("dlc.csv");
-    std::fs::write(
-        &dlc,
-        "scorer,S,S,S\nbodyparts,a,a,a\ncoords,x,y,likelihood\n0,1,2,0.99\n9223372036854775807,1,2,0.99\n",
-    )
-    .expect("write");
-    let e = import::read_deeplabcut(&dlc, &opts(&[("a", "m0")]))
-        .expect_err("huge frame")
-        .to_string();
-    assert_names(&e, &["dlc.csv:5", "9223372036854775807"]);
-    std::fs::write(
-        &dlc,
-        "scorer,S,S,S\nbodyparts,a,a,a\ncoords,x,y,likelihood\n3,1,2,0.99\n3,1,2,0.99\n",
-    )
-    .expect("write");
-    let e = import::read_deeplabcut(&dlc, &opts(&[("a", "m0")]))
-        .expect_err("repeated frame")
-        .to_string();
-    assert_names(&e, &["dlc.csv:5", "frame 3"]);
-    // Finite inputs whose pixel overflows.
-    std::fs::write(&dlt, "pt1_cam1_X,pt1_cam1_Y\n-1.7e308,2\n").expect("write");
-    let o = ImportOptions {
-        pixel_offset: 1.7e308,
-        ..opts(&[("pt1", "m0")])
-    };
-    let e = import::read_dltdv(&dlt, &o).expect_err("inf").to_string();
-    assert_names(&e, &["xypts.csv:2", "not finite"]);
 }

@@ -440,4 +440,95 @@ mod tests {
             .to_string();
         assert!(e.contains("xypts.csv:3") && e.contains("pt1_cam1_X"), "{e}");
     }
+
+    fn assert_names(e: &str, needles: &[&str]) {
+        for n in needles {
+            assert!(e.contains(n), "error should name {n:?}: {e}");
+        }
+    }
+
+    #[test]
+    fn imports_never_write_malformed_rows() {
+        let dir = tempfile::tempdir().expect("tempdir");
+        let dlt = dir.path().join("xypts.csv");
+        std::fs::write(
+            &dlt,
+            "\u{feff}pt1_cam1_X,pt1_cam1_Y,pt2_cam1_X,pt2_cam1_Y\r\n1,2,3,4\r\n",
+        )
+        .expect("write");
+        let ok = read_dltdv(&dlt, &opts(&[("pt1", "m0")])).expect("BOM + CRLF");
+        assert_eq!(ok, vec![(0, "m0".to_string(), 1.0, 2.0)]);
+        let bad_options: [(ImportOptions, &[&str]); 8] = [
+            (opts(&[("pt1", "m,0")]), &["--map", "comma"]),
+            (opts(&[("pt1", "")]), &["--map", "empty"]),
+            (opts(&[("pt1", "m0"), ("pt2", "m0")]), &["pt1", "pt2", "m0"]),
+            (
+                ImportOptions {
+                    y_up_height: Some(f64::NAN),
+                    ..opts(&[("pt1", "m0")])
+                },
+                &["--height", "NaN"],
+            ),
+            (
+                ImportOptions {
+                    y_up_height: Some(0.0),
+                    ..opts(&[("pt1", "m0")])
+                },
+                &["--height"],
+            ),
+            (
+                ImportOptions {
+                    y_up_height: Some(-5.0),
+                    ..opts(&[("pt1", "m0")])
+                },
+                &["--height"],
+            ),
+            (
+                ImportOptions {
+                    min_likelihood: f64::NAN,
+                    ..opts(&[("pt1", "m0")])
+                },
+                &["--min-likelihood"],
+            ),
+            (
+                ImportOptions {
+                    first_frame: i64::MAX,
+                    ..opts(&[("pt1", "m0")])
+                },
+                &["--first-frame"],
+            ),
+        ];
+        for (o, needles) in bad_options {
+            let e = read_dltdv(&dlt, &o).expect_err("refused").to_string();
+            assert_names(&e, needles);
+        }
+        // Frame numbers that would wrap or leave the format's range.
+        let dlc = dir.path().join("dlc.csv");
+        std::fs::write(
+            &dlc,
+            "scorer,S,S,S\nbodyparts,a,a,a\ncoords,x,y,likelihood\n0,1,2,0.99\n9223372036854775807,1,2,0.99\n",
+        )
+        .expect("write");
+        let e = read_deeplabcut(&dlc, &opts(&[("a", "m0")]))
+            .expect_err("huge frame")
+            .to_string();
+        assert_names(&e, &["dlc.csv:5", "9223372036854775807"]);
+        std::fs::write(
+            &dlc,
+            "scorer,S,S,S\nbodyparts,a,a,a\ncoords,x,y,likelihood\n3,1,2,0.99\n3,1,2,0.99\n",
+        )
+        .expect("write");
+        let e = read_deeplabcut(&dlc, &opts(&[("a", "m0")]))
+            .expect_err("repeated frame")
+            .to_string();
+        assert_names(&e, &["dlc.csv:5", "frame 3"]);
+        // Finite inputs whose pixel overflows.
+        std::fs::write(&dlt, "pt1_cam1_X,pt1_cam1_Y\n-1.7e308,2\n").expect("write");
+        let o = ImportOptions {
+            pixel_offset: 1.7e308,
+            ..opts(&[("pt1", "m0")])
+        };
+        let e = read_dltdv(&dlt, &o).expect_err("inf").to_string();
+        assert_names(&e, &["xypts.csv:2", "not finite"]);
+    }
 }
