@@ -32,7 +32,7 @@ pub struct PanelArgs {
     /// Shape.
     #[arg(long, value_enum)]
     pub shape: Shape,
-    /// Dimensions lx,ly,lz, m.
+    /// Dimensions lx,ly,lz, m, each positive.
     #[arg(long)]
     pub size: String,
     /// Mass, kg (inertia from a uniform solid cuboid for plates, thin walls for boxes).
