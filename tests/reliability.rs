@@ -168,3 +168,156 @@ fn tui_telemetry_that_does_not_load_is_an_error_not_ignored() {
     let err = stderr(&out);
     assert!(err.contains("--telemetry /no/such/telemetry.csv"), "{err}");
 }
+
+/// `omniad synth DIR --drops 1 --spins 0`: a one-take set.
+fn one_take_set(dir: &Path) -> String {
+    let set = dir.join("set").to_str().expect("utf-8 path").to_owned();
+    let out = omniad()
+        .args(["synth", &set, "--drops", "1", "--spins", "0"])
+        .output()
+        .expect("run");
+    assert!(out.status.success(), "{}", stderr(&out));
+    set
+}
+
+#[test]
+fn a_stray_frame_index_is_refused_at_once_by_fit_and_reconstruct() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let set = one_take_set(dir.path());
+    let take = Path::new(&set).join("drop-01.csv");
+    let mut f = std::fs::OpenOptions::new()
+        .append(true)
+        .open(&take)
+        .expect("open");
+    writeln!(f, "4294967295,m0,100,100").expect("append");
+    let lines = std::fs::read_to_string(&take)
+        .expect("read")
+        .lines()
+        .count();
+    let line = format!("drop-01.csv:{lines}");
+    let model = dir.path().join("m.omni");
+    let model = model.to_str().expect("utf-8");
+    let recon = dir.path().join("r");
+    let recon = recon.to_str().expect("utf-8");
+    for args in [
+        vec!["fit", &set, "-o", model],
+        vec!["reconstruct", &set, "-o", recon],
+    ] {
+        let start = Instant::now();
+        fails_naming(&args, &[&line, "4294967295"]);
+        assert!(start.elapsed() < Duration::from_secs(10), "{args:?}");
+    }
+}
+
+#[test]
+fn absurd_generator_and_panel_options_are_refused_naming_the_option() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let out = dir.path().join("s");
+    let out = out.to_str().expect("utf-8");
+    fails_naming(
+        &["synth", out, "--drops", "0", "--spins", "0"],
+        &["--drops"],
+    );
+    fails_naming(&["synth", out, "--drops", "100000"], &["--drops"]);
+    for size in ["0,0.5,0.02", "0.3,-0.5,0.02", "0.3,0.5,0"] {
+        fails_naming(
+            &[
+                "panel", "--shape", "plate", "--size", size, "--mass", "0.05",
+            ],
+            &["--size"],
+        );
+    }
+}
+
+#[test]
+fn synth_refuses_a_non_empty_folder_unless_forced() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let keep = dir.path().join("notes.txt");
+    std::fs::write(&keep, "the user's notes").expect("write");
+    let out = dir.path().to_str().expect("utf-8");
+    fails_naming(
+        &["synth", out, "--drops", "1", "--spins", "0"],
+        &["--force"],
+    );
+    assert!(
+        !dir.path().join("recording.toml").exists(),
+        "nothing written"
+    );
+    let forced = omniad()
+        .args(["synth", out, "--drops", "1", "--spins", "0", "--force"])
+        .output()
+        .expect("run");
+    assert!(forced.status.success(), "{}", stderr(&forced));
+    assert!(dir.path().join("recording.toml").exists());
+}
+
+#[test]
+fn kite_physical_inputs_are_checked_up_front() {
+    let kite = Path::new(env!("CARGO_MANIFEST_DIR")).join("data/kites/box-single.toml");
+    let kite = kite.to_str().expect("utf-8");
+    for wind in ["1e300", "-5", "NaN", "0", "inf"] {
+        let wind = format!("--wind={wind}");
+        for command in ["check", "trim", "fly"] {
+            fails_naming(&["kite", command, kite, &wind], &["--wind"]);
+        }
+    }
+    for seconds in ["1e308", "NaN", "-1", "0"] {
+        let start = Instant::now();
+        let seconds = format!("--seconds={seconds}");
+        fails_naming(&["kite", "fly", kite, &seconds], &["--seconds"]);
+        assert!(start.elapsed() < Duration::from_secs(10));
+    }
+    fails_naming(&["kite", "fly", kite, "--gust", "NaN"], &["--gust"]);
+}
+
+#[test]
+fn import_tracks_refuses_options_that_would_write_malformed_rows() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let input = dir.path().join("xypts.csv");
+    std::fs::write(&input, "pt1_cam1_X,pt1_cam1_Y\n1,2\n").expect("write");
+    let input = input.to_str().expect("utf-8");
+    let out = dir.path().join("out.csv");
+    let out = out.to_str().expect("utf-8");
+    let base = ["import-tracks", input, "-o", out, "--format", "dltdv"];
+    for (extra, needle) in [
+        (vec!["--map", "pt1=m,0"], "--map"),
+        (vec!["--map", "pt1="], "--map"),
+        (vec!["--map", "pt1=m0", "--map", "pt2=m0"], "m0"),
+        (vec!["--map", "pt1=m0", "--height", "NaN"], "--height"),
+        (vec!["--map", "pt1=m0", "--height", "0"], "--height"),
+        (vec!["--map", "pt1=m0", "--height=-720"], "--height"),
+        (
+            vec!["--map", "pt1=m0", "--min-likelihood", "NaN"],
+            "--min-likelihood",
+        ),
+        (
+            vec!["--map", "pt1=m0", "--first-frame", "9223372036854775807"],
+            "--first-frame",
+        ),
+    ] {
+        let mut args = base.to_vec();
+        args.extend(extra);
+        fails_naming(&args, &[needle]);
+        assert!(!Path::new(out).exists(), "{args:?} wrote nothing");
+    }
+}
+
+#[test]
+fn a_fit_the_data_cannot_support_names_the_take() {
+    // 70 px tracking noise: the first reconstruction is meaningless, and
+    // the error says which take and which inputs, not just "non-finite".
+    let dir = tempfile::tempdir().expect("tempdir");
+    let set = dir.path().join("noisy");
+    let set = set.to_str().expect("utf-8");
+    let made = omniad()
+        .args(["synth", set, "--noise", "70"])
+        .output()
+        .expect("run");
+    assert!(made.status.success(), "{}", stderr(&made));
+    let model = dir.path().join("m.omni");
+    fails_naming(
+        &["fit", set, "-o", model.to_str().expect("utf-8")],
+        &["take `drop-0", "recording.toml"],
+    );
+    assert!(!model.exists(), "nothing written");
+}

@@ -1,6 +1,7 @@
 //! The acquisition pipeline with iterative refinement (§6): reconstruct
 //! every take with the current model, reconstruct forces, fit, repeat.
 
+mod diagnose;
 mod provenance;
 
 use crate::error::{Error, Result};
@@ -200,7 +201,9 @@ pub fn fit(set: &RecordingSet, cfg: &FitConfig, progress: &dyn Progress) -> Resu
         fit_cfg.lsq.extensions &= it > 0;
         let (fitted, details) = match fit_samples_tested(&base, &frames, set, &fit_cfg) {
             Ok((m, d)) => (Some(m), d),
-            Err(e) if iterations.is_empty() => return Err(e),
+            Err(e) if iterations.is_empty() => {
+                return Err(diagnose::first_fit_failed(e, set, &smoothed, &frames))
+            }
             Err(_) => (None, FitDetails::default()),
         };
         progress.tick();

@@ -30,7 +30,7 @@ pub struct ImportArgs {
     /// Point to marker, `POINT=MARKER` (DLTdv `pt1`, DeepLabCut body part); repeatable.
     #[arg(long = "map", required = true)]
     pub map: Vec<String>,
-    /// Image height (px); flips Y (`v = height - Y`). DLTdv: give it.
+    /// Image height (px, positive); flips Y (`v = height - Y`). DLTdv: give it.
     #[arg(long)]
     pub height: Option<f64>,
     /// Pixels are 1-based (MATLAB, DLTdv): subtract 1 from u (and v when not flipped).
@@ -39,7 +39,7 @@ pub struct ImportArgs {
     /// DLTdv camera number.
     #[arg(long, default_value_t = 1)]
     pub camera: usize,
-    /// DeepLabCut: minimum likelihood of a point to count as visible.
+    /// DeepLabCut: minimum likelihood (0 to 1) of a point to count as visible.
     #[arg(long, default_value_t = 0.9)]
     pub min_likelihood: f64,
     /// Frame index of the first data row.

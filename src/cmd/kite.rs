@@ -38,7 +38,7 @@ pub struct Common {
 pub struct StaticArgs {
     #[command(flatten)]
     pub common: Common,
-    /// Wind speed, m/s (default: the file's).
+    /// Wind speed, m/s, above 0 and at most 60 (default: the file's).
     #[arg(long)]
     pub wind: Option<f64>,
     /// Print JSON.
@@ -51,16 +51,17 @@ pub struct StaticArgs {
 pub struct FlyArgs {
     #[command(flatten)]
     pub common: Common,
-    /// Simulated time, s.
+    /// Simulated time, s (at most 3600: bounded work).
     #[arg(long, default_value_t = 60.0)]
     pub seconds: f64,
-    /// Gust strength G: standard deviation of the along-wind gust, m/s.
+    /// Gust strength G: standard deviation of the along-wind gust, m/s
+    /// (0 to 30).
     #[arg(long, default_value_t = 1.0)]
     pub gust: f64,
     /// Turbulence seed.
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
-    /// Mean wind speed, m/s (default: the file's).
+    /// Mean wind speed, m/s, above 0 and at most 60 (default: the file's).
     #[arg(long)]
     pub wind: Option<f64>,
     /// Print JSON.
@@ -94,6 +95,7 @@ fn load(common: &Common) -> Result<Design> {
 pub fn run(command: &KiteCommand) -> Result<()> {
     match command {
         KiteCommand::Check(a) => {
+            check_inputs(a.wind, None)?;
             let design = load(&a.common)?;
             let report = omniad_kite::check::check(&design, a.wind)?;
             if a.json {
@@ -104,6 +106,7 @@ pub fn run(command: &KiteCommand) -> Result<()> {
             Ok(())
         }
         KiteCommand::Trim(a) => {
+            check_inputs(a.wind, None)?;
             let design = load(&a.common)?;
             let report = omniad_kite::trimming::trim(&design, a.wind)?;
             if a.json {
@@ -124,13 +127,52 @@ pub fn run(command: &KiteCommand) -> Result<()> {
     }
 }
 
+/// The strongest wind accepted, m/s (hurricane force is 33 m/s).
+const MAX_WIND: f64 = 60.0;
+/// The longest simulated flight, s: bounds `kite fly`'s work.
+const MAX_SECONDS: f64 = 3600.0;
+/// The strongest gust accepted (standard deviation), m/s.
+const MAX_GUST: f64 = 30.0;
+
+/// Checks the physical options before any work: `--wind` (when given),
+/// and for `kite fly` `(--seconds, --gust)`; errors name the option.
+fn check_inputs(wind: Option<f64>, flight: Option<(f64, f64)>) -> Result<()> {
+    let mut checks = Vec::with_capacity(3);
+    if let Some(w) = wind {
+        checks.push((
+            "--wind",
+            w,
+            w > 0.0 && w <= MAX_WIND,
+            "above 0 and at most",
+            MAX_WIND,
+        ));
+    }
+    if let Some((s, g)) = flight {
+        checks.push((
+            "--seconds",
+            s,
+            s > 0.0 && s <= MAX_SECONDS,
+            "above 0 and at most",
+            MAX_SECONDS,
+        ));
+        checks.push((
+            "--gust",
+            g,
+            (0.0..=MAX_GUST).contains(&g),
+            "from 0 to",
+            MAX_GUST,
+        ));
+    }
+    for (name, v, ok, range, max) in checks {
+        if !ok {
+            anyhow::bail!("{name} must be {range} {max} (got {v})");
+        }
+    }
+    Ok(())
+}
+
 fn fly(a: &FlyArgs) -> Result<()> {
-    if !(a.seconds.is_finite() && a.seconds > 0.0) {
-        anyhow::bail!("--seconds must be a positive number (got {})", a.seconds);
-    }
-    if !(a.gust.is_finite() && a.gust >= 0.0) {
-        anyhow::bail!("--gust must be zero or positive (got {})", a.gust);
-    }
+    check_inputs(a.wind, Some((a.seconds, a.gust)))?;
     let design = load(&a.common)?;
     let opts = omniad_kite::flight::FlightOptions {
         seconds: a.seconds,

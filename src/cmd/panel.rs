@@ -32,7 +32,7 @@ pub struct PanelArgs {
     /// Shape.
     #[arg(long, value_enum)]
     pub shape: Shape,
-    /// Dimensions lx,ly,lz, m.
+    /// Dimensions lx,ly,lz, m, each positive.
     #[arg(long)]
     pub size: String,
     /// Mass, kg (inertia from a uniform solid cuboid for plates, thin walls for boxes).
@@ -49,7 +49,7 @@ pub struct PanelArgs {
     pub output: PathBuf,
 }
 
-/// Parses `lx,ly,lz` (m, non-negative, finite).
+/// Parses `lx,ly,lz` (m, positive, finite).
 pub fn parse_size(s: &str) -> Result<[f64; 3]> {
     let v: Vec<f64> = s
         .split(',')
@@ -57,8 +57,8 @@ pub fn parse_size(s: &str) -> Result<[f64; 3]> {
         .collect::<Result<_, _>>()
         .map_err(|_| anyhow::anyhow!("--size: expected lx,ly,lz in metres, got {s:?}"))?;
     match v.as_slice() {
-        [x, y, z] if v.iter().all(|d| d.is_finite() && *d >= 0.0) => Ok([*x, *y, *z]),
-        _ => bail!("--size: expected three finite non-negative numbers lx,ly,lz, got {s:?}"),
+        [x, y, z] if v.iter().all(|d| d.is_finite() && *d > 0.0) => Ok([*x, *y, *z]),
+        _ => bail!("--size: expected three positive finite numbers lx,ly,lz (m), got {s:?}"),
     }
 }
 

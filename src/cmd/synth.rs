@@ -4,7 +4,7 @@
 use anyhow::Result;
 use clap::{Args, ValueEnum};
 use omniad_acquire::synth::{Effect, SynthConfig, SynthObject};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 /// Object to simulate.
 #[derive(Clone, Copy, Debug, ValueEnum)]
@@ -18,8 +18,12 @@ pub enum ObjectArg {
 /// Arguments of `omniad synth`.
 #[derive(Args, Debug)]
 pub struct SynthArgs {
-    /// Output folder (created).
+    /// Output folder (created). An existing non-empty folder is refused
+    /// unless --force is given (its files would be replaced).
     pub out: PathBuf,
+    /// Write into OUT even if it already holds files (replacing them).
+    #[arg(long)]
+    pub force: bool,
     /// Object.
     #[arg(long, value_enum, default_value_t = ObjectArg::Plate)]
     pub object: ObjectArg,
@@ -32,15 +36,33 @@ pub struct SynthArgs {
     /// Random seed.
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
-    /// Number of drops.
+    /// Number of drops (at most 1000; drops + spins at least 1).
     #[arg(long, default_value_t = 8)]
     pub drops: usize,
-    /// Number of spinning throws.
+    /// Number of spinning throws (at most 1000).
     #[arg(long, default_value_t = 5)]
     pub spins: usize,
     /// Fraction of marker rows replaced by tracker jumps (outliers).
     #[arg(long, default_value_t = 0.0)]
     pub outliers: f64,
+}
+
+/// The most drops (or spins) one set may hold: bounded work.
+const MAX_TAKES: usize = 1000;
+
+/// Refuses an existing output that is a file or a non-empty folder,
+/// unless `force`: `omniad synth` replaces files it writes.
+fn refuse_existing(out: &Path, force: bool) -> Result<()> {
+    if out.is_file() {
+        anyhow::bail!("{} is a file, not a folder", out.display());
+    }
+    let non_empty = std::fs::read_dir(out).is_ok_and(|mut d| d.next().is_some());
+    anyhow::ensure!(
+        force || !non_empty,
+        "{} already exists and is not empty; give --force to replace its files",
+        out.display()
+    );
+    Ok(())
 }
 
 /// Runs `omniad synth`.
@@ -59,6 +81,17 @@ pub fn run(a: &SynthArgs) -> Result<()> {
         (0.0..=1.0).contains(&a.outliers),
         "--outliers must be a fraction in [0, 1]"
     );
+    for (name, n) in [("--drops", a.drops), ("--spins", a.spins)] {
+        anyhow::ensure!(
+            n <= MAX_TAKES,
+            "{name} must be at most {MAX_TAKES}, found {n}"
+        );
+    }
+    anyhow::ensure!(
+        a.drops + a.spins > 0,
+        "--drops and --spins are both 0: a recording set needs at least one take"
+    );
+    refuse_existing(&a.out, a.force)?;
     let object = match a.object {
         ObjectArg::Plate => SynthObject::Plate,
         ObjectArg::Box => SynthObject::Box,

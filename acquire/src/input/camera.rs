@@ -34,13 +34,38 @@ pub struct Camera {
     pub pixel_noise: f64,
 }
 
+/// The slowest camera accepted, frames per second.
+pub const MIN_FPS: f64 = 1.0;
+
+/// The fastest camera accepted, frames per second (high-speed cameras).
+pub const MAX_FPS: f64 = 1e6;
+
 /// Pixel noise assumed when `pixel_noise` is absent, px.
 pub const DEFAULT_PIXEL_NOISE: f64 = 1.0;
 
 impl Camera {
     pub(crate) fn from_raw(path: &Path, c: &RawCamera) -> Result<Self> {
+        for (name, v) in [("width", c.width), ("height", c.height)] {
+            if v == 0 {
+                return Err(Error::at_field(
+                    path,
+                    format!("camera.{name}"),
+                    "must be a positive number of pixels, found 0",
+                ));
+            }
+        }
         for (name, v) in [("fps", c.fps), ("fx", c.fx), ("fy", c.fy)] {
             positive(path, &format!("camera.{name}"), v)?;
+        }
+        if !(MIN_FPS..=MAX_FPS).contains(&c.fps) {
+            return Err(Error::at_field(
+                path,
+                "camera.fps",
+                format!(
+                    "must be from {MIN_FPS} to {MAX_FPS} frames per second, found {}",
+                    c.fps
+                ),
+            ));
         }
         finite(path, "camera.cx", &[c.cx, c.cy])?;
         finite(path, "camera.distortion", &c.distortion)?;
@@ -54,7 +79,7 @@ impl Camera {
         })?;
         let pixel_noise = c.pixel_noise.unwrap_or(DEFAULT_PIXEL_NOISE);
         positive(path, "camera.pixel_noise", pixel_noise)?;
-        Ok(Self {
+        let camera = Self {
             width: c.width,
             height: c.height,
             fps: c.fps,
@@ -64,7 +89,46 @@ impl Camera {
             rotation: q.to_rotation_matrix().into_inner(),
             translation: Vector3::from(c.translation),
             pixel_noise,
-        })
+        };
+        camera.check_distortion().map_err(|why| {
+            Error::at_field(path, "camera.distortion", format!("impossible lens: {why}"))
+        })?;
+        Ok(camera)
+    }
+
+    /// Checks that the distortion is a lens's over the image: one-to-one
+    /// (the Jacobian determinant of the distortion stays positive) and
+    /// moving no point by more than half the image diagonal. Checked on a
+    /// 17 x 17 grid of the undistorted image rectangle.
+    fn check_distortion(&self) -> std::result::Result<(), String> {
+        const STEPS: u32 = 16;
+        let (w, h) = (f64::from(self.width), f64::from(self.height));
+        let limit = 0.5 * w.hypot(h);
+        for i in 0..=STEPS {
+            for j in 0..=STEPS {
+                let px = Vector2::new(
+                    w * f64::from(i) / f64::from(STEPS),
+                    h * f64::from(j) / f64::from(STEPS),
+                );
+                let n = (px - self.centre).component_div(&self.focal);
+                let (d, jd) = self.distort(&n);
+                let shift = (d - n).component_mul(&self.focal).norm();
+                let det = jd.determinant();
+                if det.is_nan() || det <= 0.0 {
+                    return Err(format!(
+                        "it folds the image over near pixel ({:.0}, {:.0})",
+                        px.x, px.y
+                    ));
+                }
+                if shift.is_nan() || shift > limit {
+                    return Err(format!(
+                        "it moves pixel ({:.0}, {:.0}) by {shift:.3e} px, more than half the image diagonal",
+                        px.x, px.y
+                    ));
+                }
+            }
+        }
+        Ok(())
     }
 
     /// World point (m) -> camera frame (m).

@@ -20,9 +20,16 @@
 //! `[object.markers]` (`pt1` / a body-part name -> marker name); points not
 //! in the mapping are ignored. `first_frame` is the frame index of the
 //! first data row.
+//!
+//! Nothing malformed is written: [`ImportOptions::validate`] rejects marker
+//! names the CSV cannot hold (empty, commas, quotes, spaces at the ends),
+//! two points mapped to one marker, a non-finite or non-positive height and
+//! a non-finite likelihood threshold, naming the `omniad import-tracks`
+//! option; rows whose frame index would leave `0..=MAX_FRAME_INDEX` or
+//! whose pixel is not finite are errors naming the file and line.
 
 use crate::error::{Error, Result};
-use crate::input::tracks::number;
+use crate::input::tracks::{csv_lines, csv_text, number, MAX_FRAME_INDEX};
 use std::fmt::Write as _;
 use std::path::Path;
 
@@ -61,6 +68,56 @@ impl Default for ImportOptions {
 pub type Row = (i64, String, f64, f64);
 
 impl ImportOptions {
+    /// Checks the options before any file is read; errors name the
+    /// `omniad import-tracks` option (`--map`, `--height`, ...).
+    pub fn validate(&self) -> Result<()> {
+        let bad = |m: String| Err(Error::Data(m));
+        for (i, (point, marker)) in self.mapping.iter().enumerate() {
+            for (what, name) in [("point", point), ("marker", marker)] {
+                if let Some(why) = unwritable_name(name) {
+                    return bad(format!("--map `{point}={marker}`: the {what} name {why}"));
+                }
+            }
+            if let Some((p, _)) = self.mapping.iter().take(i).find(|(_, m)| m == marker) {
+                return bad(format!(
+                    "--map: points `{p}` and `{point}` both map to marker `{marker}`"
+                ));
+            }
+            if self.mapping.iter().take(i).any(|(p, _)| p == point) {
+                return bad(format!("--map: point `{point}` is mapped twice"));
+            }
+        }
+        if let Some(h) = self.y_up_height {
+            if !(h.is_finite() && h > 0.0) {
+                return bad(format!(
+                    "--height must be a positive number of pixels, found {h}"
+                ));
+            }
+        }
+        if !(0.0..=1.0).contains(&self.min_likelihood) {
+            return bad(format!(
+                "--min-likelihood must be a number from 0 to 1, found {}",
+                self.min_likelihood
+            ));
+        }
+        if !self.pixel_offset.is_finite() {
+            return bad(format!(
+                "pixel offset must be finite, found {}",
+                self.pixel_offset
+            ));
+        }
+        if self.camera == 0 {
+            return bad("--camera: DLTdv cameras are numbered from 1".into());
+        }
+        if !(0..=MAX_FRAME_INDEX).contains(&self.first_frame) {
+            return bad(format!(
+                "--first-frame must be from 0 to {MAX_FRAME_INDEX}, found {}",
+                self.first_frame
+            ));
+        }
+        Ok(())
+    }
+
     fn marker(&self, point: &str) -> Option<&str> {
         self.mapping
             .iter()
@@ -78,6 +135,53 @@ impl ImportOptions {
     }
 }
 
+/// Why a point or marker name cannot stand in a `frame,marker,u,v` row
+/// (read back trimmed and split at commas), or `None` when it can.
+fn unwritable_name(name: &str) -> Option<&'static str> {
+    if name.is_empty() {
+        Some("is empty")
+    } else if name.contains([',', '"']) {
+        Some("holds a comma or a quote")
+    } else if name.trim() != name {
+        Some("starts or ends with white space")
+    } else if name.chars().any(char::is_control) {
+        Some("holds a control character")
+    } else {
+        None
+    }
+}
+
+/// The frame index of data row `row` (0-based) counted from `first`, if
+/// it stays within `0..=MAX_FRAME_INDEX`.
+fn frame_at(path: &Path, line: usize, first: i64, row: usize) -> Result<i64> {
+    i64::try_from(row)
+        .ok()
+        .and_then(|r| first.checked_add(r))
+        .filter(|k| (0..=MAX_FRAME_INDEX).contains(k))
+        .ok_or_else(|| {
+            Error::at_line(
+                path,
+                line,
+                None,
+                format!("frame index past {MAX_FRAME_INDEX} (--first-frame {first} + row {row})"),
+            )
+        })
+}
+
+/// An output pixel, which must be finite (large inputs can overflow).
+fn finite_pixel(path: &Path, line: usize, (u, v): (f64, f64)) -> Result<(f64, f64)> {
+    if u.is_finite() && v.is_finite() {
+        Ok((u, v))
+    } else {
+        Err(Error::at_line(
+            path,
+            line,
+            None,
+            format!("pixel ({u}, {v}) is not finite"),
+        ))
+    }
+}
+
 /// A cell that is a missing value (`NaN`, empty).
 fn missing(s: &str) -> bool {
     s.is_empty() || s.eq_ignore_ascii_case("nan")
@@ -85,8 +189,9 @@ fn missing(s: &str) -> bool {
 
 /// Reads a DLTdv `xypts.csv`.
 pub fn read_dltdv(path: &Path, o: &ImportOptions) -> Result<Vec<Row>> {
-    let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
-    let mut lines = text.lines();
+    o.validate()?;
+    let text = csv_text(path)?;
+    let mut lines = csv_lines(&text);
     let header: Vec<&str> = lines
         .next()
         .unwrap_or("")
@@ -134,11 +239,17 @@ pub fn read_dltdv(path: &Path, o: &ImportOptions) -> Result<Vec<Row>> {
             if missing(xs) || missing(ys) {
                 continue;
             }
-            let (u, v) = o.pixel(
+            let pixel = o.pixel(
                 number(path, lineno, header[*i], xs)?,
                 number(path, lineno, header[*j], ys)?,
             );
-            out.push((o.first_frame + row as i64, marker.clone(), u, v));
+            let (u, v) = finite_pixel(path, lineno, pixel)?;
+            out.push((
+                frame_at(path, lineno, o.first_frame, row)?,
+                marker.clone(),
+                u,
+                v,
+            ));
         }
     }
     Ok(out)
@@ -146,9 +257,9 @@ pub fn read_dltdv(path: &Path, o: &ImportOptions) -> Result<Vec<Row>> {
 
 /// Reads a DeepLabCut CSV.
 pub fn read_deeplabcut(path: &Path, o: &ImportOptions) -> Result<Vec<Row>> {
-    let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
-    let rows: Vec<Vec<&str>> = text
-        .lines()
+    o.validate()?;
+    let text = csv_text(path)?;
+    let rows: Vec<Vec<&str>> = csv_lines(&text)
         .map(|l| l.split(',').map(str::trim).collect())
         .collect();
     let find = |name: &str| {
@@ -190,16 +301,27 @@ pub fn read_deeplabcut(path: &Path, o: &ImportOptions) -> Result<Vec<Row>> {
         ));
     }
     let mut out = Vec::new();
+    let mut frames = std::collections::HashSet::new();
     for (n, cells) in rows.iter().enumerate().skip(co + 1) {
         if cells.iter().all(|c| c.is_empty()) {
             continue;
         }
         let lineno = n + 1;
-        let index = (n - co - 1) as i64;
-        let frame = cells
-            .first()
-            .and_then(|c| c.parse::<i64>().ok())
-            .unwrap_or(o.first_frame + index);
+        let frame = dlc_frame(
+            path,
+            lineno,
+            cells.first().copied(),
+            o.first_frame,
+            n - co - 1,
+        )?;
+        if !frames.insert(frame) {
+            return Err(Error::at_line(
+                path,
+                lineno,
+                None,
+                format!("frame {frame} appears on an earlier row too"),
+            ));
+        }
         for (marker, i, j, l) in &points {
             let get = |k: usize| cells.get(k).copied().unwrap_or("");
             if missing(get(*i)) || missing(get(*j)) {
@@ -212,14 +334,30 @@ pub fn read_deeplabcut(path: &Path, o: &ImportOptions) -> Result<Vec<Row>> {
                     continue;
                 }
             }
-            let (u, v) = o.pixel(
+            let pixel = o.pixel(
                 number(path, lineno, "x", get(*i))?,
                 number(path, lineno, "y", get(*j))?,
             );
+            let (u, v) = finite_pixel(path, lineno, pixel)?;
             out.push((frame, marker.clone(), u, v));
         }
     }
     Ok(out)
+}
+
+/// A DeepLabCut row's frame: its first cell when that is an integer (which
+/// must be a valid frame index), else `first` + the data row number.
+fn dlc_frame(path: &Path, line: usize, cell: Option<&str>, first: i64, row: usize) -> Result<i64> {
+    match cell.map(str::parse::<i64>) {
+        Some(Ok(k)) if (0..=MAX_FRAME_INDEX).contains(&k) => Ok(k),
+        Some(Ok(k)) => Err(Error::at_line(
+            path,
+            line,
+            None,
+            format!("frame index {k} is outside 0..={MAX_FRAME_INDEX}"),
+        )),
+        _ => frame_at(path, line, first, row),
+    }
 }
 
 /// The rows as a marker-track file (`frame,marker,u,v`).
@@ -301,5 +439,96 @@ mod tests {
             .expect_err("bad number")
             .to_string();
         assert!(e.contains("xypts.csv:3") && e.contains("pt1_cam1_X"), "{e}");
+    }
+
+    fn assert_names(e: &str, needles: &[&str]) {
+        for n in needles {
+            assert!(e.contains(n), "error should name {n:?}: {e}");
+        }
+    }
+
+    #[test]
+    fn imports_never_write_malformed_rows() {
+        let dir = tempfile::tempdir().expect("tempdir");
+        let dlt = dir.path().join("xypts.csv");
+        std::fs::write(
+            &dlt,
+            "\u{feff}pt1_cam1_X,pt1_cam1_Y,pt2_cam1_X,pt2_cam1_Y\r\n1,2,3,4\r\n",
+        )
+        .expect("write");
+        let ok = read_dltdv(&dlt, &opts(&[("pt1", "m0")])).expect("BOM + CRLF");
+        assert_eq!(ok, vec![(0, "m0".to_string(), 1.0, 2.0)]);
+        let bad_options: [(ImportOptions, &[&str]); 8] = [
+            (opts(&[("pt1", "m,0")]), &["--map", "comma"]),
+            (opts(&[("pt1", "")]), &["--map", "empty"]),
+            (opts(&[("pt1", "m0"), ("pt2", "m0")]), &["pt1", "pt2", "m0"]),
+            (
+                ImportOptions {
+                    y_up_height: Some(f64::NAN),
+                    ..opts(&[("pt1", "m0")])
+                },
+                &["--height", "NaN"],
+            ),
+            (
+                ImportOptions {
+                    y_up_height: Some(0.0),
+                    ..opts(&[("pt1", "m0")])
+                },
+                &["--height"],
+            ),
+            (
+                ImportOptions {
+                    y_up_height: Some(-5.0),
+                    ..opts(&[("pt1", "m0")])
+                },
+                &["--height"],
+            ),
+            (
+                ImportOptions {
+                    min_likelihood: f64::NAN,
+                    ..opts(&[("pt1", "m0")])
+                },
+                &["--min-likelihood"],
+            ),
+            (
+                ImportOptions {
+                    first_frame: i64::MAX,
+                    ..opts(&[("pt1", "m0")])
+                },
+                &["--first-frame"],
+            ),
+        ];
+        for (o, needles) in bad_options {
+            let e = read_dltdv(&dlt, &o).expect_err("refused").to_string();
+            assert_names(&e, needles);
+        }
+        // Frame numbers that would wrap or leave the format's range.
+        let dlc = dir.path().join("dlc.csv");
+        std::fs::write(
+            &dlc,
+            "scorer,S,S,S\nbodyparts,a,a,a\ncoords,x,y,likelihood\n0,1,2,0.99\n9223372036854775807,1,2,0.99\n",
+        )
+        .expect("write");
+        let e = read_deeplabcut(&dlc, &opts(&[("a", "m0")]))
+            .expect_err("huge frame")
+            .to_string();
+        assert_names(&e, &["dlc.csv:5", "9223372036854775807"]);
+        std::fs::write(
+            &dlc,
+            "scorer,S,S,S\nbodyparts,a,a,a\ncoords,x,y,likelihood\n3,1,2,0.99\n3,1,2,0.99\n",
+        )
+        .expect("write");
+        let e = read_deeplabcut(&dlc, &opts(&[("a", "m0")]))
+            .expect_err("repeated frame")
+            .to_string();
+        assert_names(&e, &["dlc.csv:5", "frame 3"]);
+        // Finite inputs whose pixel overflows.
+        std::fs::write(&dlt, "pt1_cam1_X,pt1_cam1_Y\n-1.7e308,2\n").expect("write");
+        let o = ImportOptions {
+            pixel_offset: 1.7e308,
+            ..opts(&[("pt1", "m0")])
+        };
+        let e = read_dltdv(&dlt, &o).expect_err("inf").to_string();
+        assert_names(&e, &["xypts.csv:2", "not finite"]);
     }
 }

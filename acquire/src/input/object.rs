@@ -60,6 +60,7 @@ pub(crate) fn object(path: &Path, o: RawObject) -> Result<Object> {
             "must be symmetric positive definite",
         ));
     }
+    physical_inertia(path, &inertia)?;
     finite(path, "object.pole", &o.pole)?;
     let pole = Vector3::from(o.pole);
     if pole.norm() == 0.0 {
@@ -70,6 +71,7 @@ pub(crate) fn object(path: &Path, o: RawObject) -> Result<Object> {
         finite(path, &format!("object.markers.{name}"), &p)?;
         markers.push((name, Vector3::from(p)));
     }
+    distinct_markers(path, &markers, o.reference_length)?;
     Ok(Object {
         name: o.name,
         mass: o.mass,
@@ -78,4 +80,45 @@ pub(crate) fn object(path: &Path, o: RawObject) -> Result<Object> {
         pole: pole.normalize(),
         markers,
     })
+}
+
+/// A rigid body's principal moments satisfy the triangle inequality
+/// (`I1 <= I2 + I3`, ...): no mass distribution has one moment larger than
+/// the other two together.
+fn physical_inertia(path: &Path, inertia: &Matrix3<f64>) -> Result<()> {
+    let m = inertia.symmetric_eigenvalues();
+    let sum = m.sum();
+    if m.iter().all(|&i| i <= (sum - i) * (1.0 + 1e-9)) {
+        Ok(())
+    } else {
+        Err(Error::at_field(
+            path,
+            "object.inertia",
+            format!(
+                "principal moments {:.4e}, {:.4e}, {:.4e} kg m² break the triangle inequality \
+                 (each must be at most the sum of the other two)",
+                m[0], m[1], m[2]
+            ),
+        ))
+    }
+}
+
+/// No two markers at one point (they could not be told apart, and a pose
+/// is not observable from markers that all coincide): within 1e-6 of the
+/// reference length.
+fn distinct_markers(path: &Path, markers: &[(String, Vector3<f64>)], length: f64) -> Result<()> {
+    for (i, (a, pa)) in markers.iter().enumerate() {
+        if let Some((b, _)) = markers
+            .iter()
+            .skip(i + 1)
+            .find(|(_, pb)| (pa - pb).norm() <= 1e-6 * length)
+        {
+            return Err(Error::at_field(
+                path,
+                format!("object.markers.{b}"),
+                format!("at the same point as marker `{a}`"),
+            ));
+        }
+    }
+    Ok(())
 }

@@ -119,6 +119,7 @@ impl RecordingSet {
             .as_ref()
             .map(|c| Camera::from_raw(&path, c))
             .transpose()?;
+        take_names(&path, &raw.take)?;
         let mut takes = Vec::with_capacity(raw.take.len());
         for (i, t) in raw.take.iter().enumerate() {
             takes.push(take(dir, &path, i, t, &object, camera.as_ref())?);
@@ -186,7 +187,9 @@ fn take(
                     "marker takes need initial_position and initial_orientation",
                 ));
             }
-            (tracks::read_markers(&dir.join(m), object, cam.fps)?, false)
+            let epochs = tracks::read_markers(&dir.join(m), object, cam.fps)?;
+            in_front(path, i, &t.name, initial, &epochs, object, cam)?;
+            (epochs, false)
         }
         (None, Some(p)) => (tracks::read_poses(&dir.join(p))?, true),
         _ => {
@@ -230,4 +233,81 @@ fn initial_guess(
             "give both initial_position and initial_orientation",
         )),
     }
+}
+
+/// Take names become file names (`omniad reconstruct` writes
+/// `<name>.csv`): each must be a plain file name, and no two may be equal
+/// even ignoring case (case-insensitive file systems), or one take's output
+/// would overwrite another's.
+fn take_names(path: &Path, takes: &[RawTake]) -> Result<()> {
+    for (i, t) in takes.iter().enumerate() {
+        let n = t.name.as_str();
+        if n.is_empty()
+            || n == "."
+            || n == ".."
+            || n.contains(['/', '\\'])
+            || n.chars().any(char::is_control)
+        {
+            return Err(Error::at_field(
+                path,
+                format!("take[{i}].name"),
+                format!("`{n}` is not a plain file name (it names the take's output files)"),
+            ));
+        }
+        if let Some(j) = takes
+            .iter()
+            .take(i)
+            .position(|o| o.name.eq_ignore_ascii_case(n))
+        {
+            return Err(Error::at_field(
+                path,
+                format!("take[{i}].name"),
+                format!(
+                    "takes {j} (`{}`) and {i} (`{n}`) have the same name; one's output would \
+                     overwrite the other's",
+                    takes.get(j).map_or("", |o| o.name.as_str())
+                ),
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// Every marker seen in a take's first frame must be in front of the
+/// camera at the take's initial pose: a marker behind it cannot have been
+/// seen, so the pose, `camera.rotation` or `camera.translation` is wrong
+/// (the reconstruction would otherwise drift to a meaningless model).
+fn in_front(
+    path: &Path,
+    i: usize,
+    name: &str,
+    initial: Option<(Vector3<f64>, UnitQuaternion<f64>)>,
+    epochs: &[Epoch],
+    object: &Object,
+    camera: &Camera,
+) -> Result<()> {
+    let (Some((p, q)), Some(first)) = (initial, epochs.first()) else {
+        return Ok(());
+    };
+    let tracks::Observation::Markers(seen) = &first.observation else {
+        return Ok(());
+    };
+    for m in seen {
+        let Some((marker, body)) = object.markers.get(m.marker) else {
+            continue;
+        };
+        let depth = camera.to_camera(&(p + q * body)).z;
+        if depth.is_nan() || depth <= crate::input::camera::MIN_DEPTH {
+            return Err(Error::at_field(
+                path,
+                format!("take[{i}].initial_position"),
+                format!(
+                    "take `{name}`: marker `{marker}`, seen in its first frame, is {depth:.3} m \
+                     deep in the camera frame at the initial pose (behind the camera); check \
+                     initial_position, initial_orientation and camera.rotation/translation"
+                ),
+            ));
+        }
+    }
+    Ok(())
 }

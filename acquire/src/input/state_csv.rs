@@ -5,7 +5,7 @@
 //! frame (the recording format's conventions). One reader, one writer.
 
 use crate::error::{Error, Result};
-use crate::input::tracks::{number, rows};
+use crate::input::tracks::{csv_text, number, rows};
 use omniad_core::State;
 use std::fmt::Write as _;
 use std::path::Path;
@@ -26,7 +26,7 @@ pub enum TimeFormat {
 
 /// Reads a state CSV: rows of 14 numbers; errors name `file:line: column`.
 pub fn read_states(path: &Path) -> Result<Vec<[f64; 14]>> {
-    let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+    let text = csv_text(path)?;
     let mut out = Vec::new();
     for (line, f) in rows(path, &text, &STATE_COLUMNS)? {
         let mut v = [0.0; 14];

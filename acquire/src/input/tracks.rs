@@ -4,11 +4,37 @@
 //! Marker tracks become dense: every frame index from the first to the last
 //! row gets an epoch, with no observations where the format allows a frame
 //! to have no rows. Errors name the file, the 1-based line and the column.
+//!
+//! **Bounded work.** A take is one drop or one throw, seconds long, and the
+//! reconstruction allocates per frame, so frame indices are bounded:
+//! every index is at most [`MAX_FRAME_INDEX`] (so `k / fps` keeps far
+//! better than frame-period precision), and a take spans at most
+//! [`MAX_TAKE_FRAMES`] frames from its first to its last row (one stray row
+//! such as `4294967295,m0,100,100` would otherwise make a take of four
+//! billion empty frames). The error names the file, the line of the row
+//! furthest from the take's median frame and its value. Pose tracks are
+//! held to the same number of rows.
+//!
+//! **Encodings.** Every CSV of the recording format is read through
+//! [`csv_text`]: UTF-8 with or without a byte-order mark, lines ending in
+//! LF, CRLF or CR, at most [`MAX_CSV_BYTES`] bytes.
 
 use crate::error::{Error, Result};
 use crate::input::object::Object;
 use nalgebra::{UnitQuaternion, Vector2, Vector3};
 use std::path::Path;
+
+/// The longest take, in frames from its first to its last row (inclusive):
+/// 14 min at 60 fps, 52 s at 960 fps; a drop or throw lasts seconds.
+pub const MAX_TAKE_FRAMES: i64 = 50_000;
+
+/// The largest frame index: at 1e6 fps `k / fps` is then at most 1000 s,
+/// resolved to about 1e-13 s, far below a frame period.
+pub const MAX_FRAME_INDEX: i64 = 1_000_000_000;
+
+/// The largest CSV file read (bytes): a [`MAX_TAKE_FRAMES`]-frame take of
+/// 40 markers at 60 bytes a row is 120 MB.
+pub const MAX_CSV_BYTES: usize = 256 << 20;
 
 /// One marker seen in one frame.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -44,7 +70,7 @@ pub(crate) fn rows<'a>(
     text: &'a str,
     columns: &[&str],
 ) -> Result<Vec<(usize, Vec<&'a str>)>> {
-    let mut lines = text.lines().enumerate();
+    let mut lines = csv_lines(text).enumerate();
     let header = lines.next().map(|(_, l)| l.trim()).unwrap_or("");
     let names: Vec<&str> = header.split(',').map(str::trim).collect();
     if names != columns {
@@ -88,23 +114,49 @@ pub(crate) fn number(path: &Path, line: usize, col: &str, s: &str) -> Result<f64
     }
 }
 
-fn read(path: &Path) -> Result<String> {
-    std::fs::read_to_string(path).map_err(|e| Error::io(path, e))
+/// The lines of a CSV text whose line ends may be LF, CRLF or a lone CR
+/// (old Mac exports), after a UTF-8 byte-order mark if there is one.
+pub(crate) fn csv_lines(text: &str) -> impl Iterator<Item = &str> {
+    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
+    text.lines().flat_map(|l| l.split('\r'))
+}
+
+/// Reads a CSV file of the recording format as UTF-8 text, at most
+/// [`MAX_CSV_BYTES`] long (see [`csv_lines`] for the line ends).
+pub fn csv_text(path: &Path) -> Result<String> {
+    let bytes = omniad_io::read_capped(path, MAX_CSV_BYTES).map_err(|e| Error::io(path, e))?;
+    String::from_utf8(bytes).map_err(|e| {
+        Error::in_file(
+            path,
+            format!("not UTF-8 text (byte {})", e.utf8_error().valid_up_to()),
+        )
+    })
 }
 
 /// Reads a marker-track file; frame `k` is at time `k / fps`.
 pub fn read_markers(path: &Path, object: &Object, fps: f64) -> Result<Vec<Epoch>> {
-    let text = read(path)?;
+    parse_markers(path, &csv_text(path)?, object, fps)
+}
+
+/// Parses the text of a marker-track file read from `path` (named in errors).
+pub fn parse_markers(path: &Path, text: &str, object: &Object, fps: f64) -> Result<Vec<Epoch>> {
     let mut sightings: Vec<(i64, MarkerSighting, usize)> = Vec::new();
-    for (line, f) in rows(path, &text, &["frame", "marker", "u", "v"])? {
-        let frame: i64 = f[0].parse().ok().filter(|k: &i64| *k >= 0).ok_or_else(|| {
-            Error::at_line(
-                path,
-                line,
-                Some("frame"),
-                format!("expected a non-negative integer, found `{}`", f[0]),
-            )
-        })?;
+    for (line, f) in rows(path, text, &["frame", "marker", "u", "v"])? {
+        let frame: i64 = f[0]
+            .parse()
+            .ok()
+            .filter(|k: &i64| (0..=MAX_FRAME_INDEX).contains(k))
+            .ok_or_else(|| {
+                Error::at_line(
+                    path,
+                    line,
+                    Some("frame"),
+                    format!(
+                        "expected a frame index from 0 to {MAX_FRAME_INDEX}, found `{}`",
+                        f[0]
+                    ),
+                )
+            })?;
         let marker = object.marker_index(f[1]).ok_or_else(|| {
             Error::at_line(
                 path,
@@ -149,6 +201,7 @@ pub(crate) fn densify(
     let (Some(first), Some(last)) = (s.first().map(|x| x.0), s.last().map(|x| x.0)) else {
         return Err(Error::in_file(path, "no marker rows"));
     };
+    check_span(path, &s, first, last)?;
     let mut epochs: Vec<Epoch> = (first..=last)
         .map(|k| Epoch {
             t: k as f64 / fps,
@@ -167,12 +220,54 @@ pub(crate) fn densify(
     Ok(epochs)
 }
 
+/// Rejects a take spanning more than [`MAX_TAKE_FRAMES`] frames, naming
+/// the row furthest from the median frame (the stray one).
+fn check_span(
+    path: &Path,
+    s: &[(i64, MarkerSighting, usize)],
+    first: i64,
+    last: i64,
+) -> Result<()> {
+    if last - first < MAX_TAKE_FRAMES {
+        return Ok(());
+    }
+    let median = s.get(s.len() / 2).map_or(first, |x| x.0);
+    let (frame, line) = s
+        .iter()
+        .map(|(k, _, line)| (*k, *line))
+        .max_by_key(|(k, _)| (k - median).abs())
+        .unwrap_or((last, 0));
+    Err(Error::at_line(
+        path,
+        line,
+        Some("frame"),
+        format!(
+            "frame {frame} is {} frames from the take's median frame {median}; a take spans \
+             at most {MAX_TAKE_FRAMES} frames (a stray row?)",
+            (frame - median).abs()
+        ),
+    ))
+}
+
 /// Reads a pose-track file; times must increase strictly.
 pub fn read_poses(path: &Path) -> Result<Vec<Epoch>> {
-    let text = read(path)?;
+    parse_poses(path, &csv_text(path)?)
+}
+
+/// Parses the text of a pose-track file read from `path` (named in errors).
+pub fn parse_poses(path: &Path, text: &str) -> Result<Vec<Epoch>> {
     let cols = ["t", "x", "y", "z", "qw", "qx", "qy", "qz"];
     let mut epochs: Vec<Epoch> = Vec::new();
-    for (line, f) in rows(path, &text, &cols)? {
+    let rows = rows(path, text, &cols)?;
+    if let Some((line, _)) = rows.get(MAX_TAKE_FRAMES as usize) {
+        return Err(Error::at_line(
+            path,
+            *line,
+            None,
+            format!("a take holds at most {MAX_TAKE_FRAMES} rows"),
+        ));
+    }
+    for (line, f) in rows {
         let mut v = [0.0; 8];
         for ((slot, s), col) in v.iter_mut().zip(&f).zip(cols) {
             *slot = number(path, line, col, s)?;

@@ -1,10 +1,10 @@
 //! Comparison with a synthetic set's `truth/` (never used by the fitter):
 //! state errors of a reconstruction and the coefficient error of a model.
 
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::fit::coverage::count_within;
 use crate::input::state_csv::read_states;
-use crate::input::tracks::{number, rows};
+use crate::input::tracks::{csv_text, number, rows};
 use crate::reconstruct::filter::Smoothed;
 use nalgebra::{UnitQuaternion, Vector3};
 use omniad_core::Coefficients;
@@ -91,7 +91,7 @@ pub fn state_error(s: &Smoothed, truth: &[[f64; 14]]) -> StateError {
 
 /// Reads `truth/coefficients.csv`: (E, C_F, C_T) rows.
 pub fn read_coefficients(path: &Path) -> Result<Vec<[Vector3<f64>; 3]>> {
-    let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+    let text = csv_text(path)?;
     let cols = ["ex", "ey", "ez", "cfx", "cfy", "cfz", "ctx", "cty", "ctz"];
     let mut out = Vec::new();
     for (line, f) in rows(path, &text, &cols)? {
