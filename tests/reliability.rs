@@ -5,6 +5,8 @@
 mod common;
 
 use common::{omniad, plate, run_with_stdin};
+use std::io::Write;
+use std::path::Path;
 use std::process::{Output, Stdio};
 use std::time::{Duration, Instant};
 
