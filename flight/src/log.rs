@@ -184,17 +184,14 @@ pub fn parse_cycles(text: &str) -> Result<Vec<u32>, String> {
 
 /// Reads one cycle file.
 pub fn read_cycle(path: &Path) -> Result<Cycle, LogError> {
-    let bytes = omniad_io::read_capped(path, MAX_FILE_BYTES)
+    let text = omniad_io::read_text(path, MAX_FILE_BYTES)
         .map_err(|e| LogError(format!("cannot read {}: {e}", path.display())))?;
-    let text = String::from_utf8(bytes)
-        .map_err(|_| LogError(format!("{}: not UTF-8 text", path.display())))?;
     parse(&text, path)
 }
 
 /// Parses the text of a cycle file (`path` names it in errors).
 pub fn parse(text: &str, path: &Path) -> Result<Cycle, LogError> {
-    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
-    let mut lines = text.lines().map(|l| l.trim_end_matches('\r'));
+    let mut lines = omniad_io::csv_lines(text);
     let header: Vec<&str> = lines
         .next()
         .ok_or_else(|| LogError(format!("{}: empty file", path.display())))?

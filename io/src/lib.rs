@@ -7,9 +7,12 @@
 //!   damages what the user had.
 //! - [`capped`]: an input is read up to a limit its format announces, so
 //!   `/dev/zero` or a huge file is an error, not gigabytes of memory.
+//! - [`text`]: CSV text as exports write it (byte-order mark, any line end).
 
 pub mod atomic;
 pub mod capped;
+pub mod text;
 
 pub use atomic::{write_atomic, write_with};
 pub use capped::read_capped;
+pub use text::{csv_lines, read_text};

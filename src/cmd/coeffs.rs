@@ -85,7 +85,8 @@ pub fn eval_csv(model: &Coefficients<f64>, input: impl BufRead) -> Result<String
     for (i, line) in input.lines().enumerate() {
         let line_no = i + 1;
         let line = line.map_err(|e| anyhow::anyhow!("stdin line {line_no}: {e}"))?;
-        let text = line.trim();
+        // A spreadsheet's export may start with a byte-order mark.
+        let text = line.trim().trim_start_matches('\u{feff}');
         if text.is_empty() {
             continue;
         }

@@ -114,23 +114,12 @@ pub(crate) fn number(path: &Path, line: usize, col: &str, s: &str) -> Result<f64
     }
 }
 
-/// The lines of a CSV text whose line ends may be LF, CRLF or a lone CR
-/// (old Mac exports), after a UTF-8 byte-order mark if there is one.
-pub(crate) fn csv_lines(text: &str) -> impl Iterator<Item = &str> {
-    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
-    text.lines().flat_map(|l| l.split('\r'))
-}
+pub(crate) use omniad_io::csv_lines;
 
 /// Reads a CSV file of the recording format as UTF-8 text, at most
 /// [`MAX_CSV_BYTES`] long (see [`csv_lines`] for the line ends).
 pub fn csv_text(path: &Path) -> Result<String> {
-    let bytes = omniad_io::read_capped(path, MAX_CSV_BYTES).map_err(|e| Error::io(path, e))?;
-    String::from_utf8(bytes).map_err(|e| {
-        Error::in_file(
-            path,
-            format!("not UTF-8 text (byte {})", e.utf8_error().valid_up_to()),
-        )
-    })
+    omniad_io::read_text(path, MAX_CSV_BYTES).map_err(|e| Error::io(path, e))
 }
 
 /// Reads a marker-track file; frame `k` is at time `k / fps`.

@@ -55,7 +55,7 @@ pub(crate) fn read_log(path: &Path, max: Option<usize>) -> Result<Vec<SensorFram
 
 /// [`read_log`] on the file's text; `name` is the file, for errors.
 fn parse_log(name: &str, text: &str, max: Option<usize>) -> Result<Vec<SensorFrame>> {
-    let mut lines = text.lines().enumerate();
+    let mut lines = omniad_io::csv_lines(text).enumerate();
     let header: Vec<&str> = match lines.next() {
         Some((_, h)) => h.split(',').map(str::trim).collect(),
         None => bail!("{name}: empty file (no header line)"),

@@ -25,12 +25,12 @@ pub struct FlightLog {
 impl FlightLog {
     /// Parses comma-separated text with a header line.
     pub fn parse(text: &str) -> Self {
-        let mut lines = text.lines();
+        let mut lines = omniad_io::csv_lines(text);
         let names = lines
             .next()
             .unwrap_or("")
             .split(',')
-            .map(|s| s.trim().trim_end_matches('\r').to_string())
+            .map(|s| s.trim().to_string())
             .collect();
         let rows = lines
             .filter(|l| !l.trim().is_empty())
