@@ -25,6 +25,12 @@ pub struct KiteProperties {
     /// Share of the tether's weight the kite carries (0: none, as a
     /// straight massless line; 0.5: half, a line hanging symmetrically).
     pub tether_weight_share: f64,
+    /// Tether drag the balance removes, as the drag coefficient share `c`
+    /// of `c ½ρ|V|² d l` along the apparent wind (0: none, the default —
+    /// the `tether_drag` candidate effect then finds it from the data; a
+    /// uniform line moving with the kite gives about C_d / 4 ≈ 0.3,
+    /// Argatov et al. 2009).
+    pub tether_drag_share: f64,
 }
 
 impl Default for KiteProperties {
@@ -37,6 +43,7 @@ impl Default for KiteProperties {
             tether_density: 724.0,
             tether_diameter: 0.01,
             tether_weight_share: 0.5,
+            tether_drag_share: 0.0,
         }
     }
 }
@@ -65,6 +72,12 @@ impl KiteProperties {
             return Err(format!(
                 "kcu_mass must be between 0 and mass, found {}",
                 self.kcu_mass
+            ));
+        }
+        if !(0.0..=2.0).contains(&self.tether_drag_share) {
+            return Err(format!(
+                "tether_drag_share must be between 0 and 2, found {}",
+                self.tether_drag_share
             ));
         }
         if !(0.0..=1.0).contains(&self.tether_weight_share) {

@@ -12,7 +12,9 @@
 //!   tether (sag and the tether's own drag are left to the candidate
 //!   effects);
 //! - `s μ l`: the share `s` of the tether's weight (`μ` kg/m, length `l`
-//!   = the kite's distance) that the kite carries.
+//!   = the kite's distance) that the kite carries;
+//! - optionally (`tether_drag_share` c > 0), the tether's drag lumped at the
+//!   kite, `-c ½ρ|V|² d l E` in the body frame, removed from the result.
 //!
 //! Every assumption is also listed in [`ASSUMPTIONS`], which the report
 //! prints.
@@ -23,10 +25,11 @@ use crate::log::{Col, Cycle, Row};
 use nalgebra::{Rotation3, Vector3};
 
 /// The assumptions of the force balance, in words, for the report.
-pub const ASSUMPTIONS: [&str; 7] = [
+pub const ASSUMPTIONS: [&str; 8] = [
     "the airborne system (canopy, equipment, control unit) moves as one body with the canopy IMU's acceleration (kite_1_ax..az, NED)",
     "the tether is straight from the kite to the ground station; its tension at the kite equals the ground station's load-cell force (ground_tether_force in kgf x 9.80665 N)",
     "the kite carries the given share of the tether's weight (default one half: a line hanging symmetrically)",
+    "the tether's own drag is removed only when --tether-drag-share is given (default none; the tether_drag candidate tests it)",
     "air velocity in the body frame (FRD) from the Pitot airspeed and the vane's angle of attack, no sideslip (not measured in this flight), as the firmware computes it",
     "air density from the Pitot's temperature and the ISA pressure at the kite's height above the ground station (elevation -5 m)",
     "angular acceleration by central differences of the body rates within a cycle",
@@ -129,16 +132,28 @@ fn sample(
     } else {
         Vector3::zeros()
     };
+    let air_velocity = air_velocity_frd(r.get(Col::Airspeed), r.get(Col::AngleOfAttack));
+    let density = air_density(
+        r.get(Col::Temperature),
+        GROUND_ELEVATION + r.get(Col::Height),
+    );
+    let tether_drag = air_velocity
+        .try_normalize(1e-9)
+        .map_or(Vector3::zeros(), |e| {
+            -e * (kite.tether_drag_share
+                * 0.5
+                * density
+                * air_velocity.norm_squared()
+                * kite.tether_diameter
+                * length)
+        });
     let s = Sample {
         cycle,
         time: r.get(Col::Time) - t0,
         attitude,
-        air_velocity: air_velocity_frd(r.get(Col::Airspeed), r.get(Col::AngleOfAttack)),
-        air_density: air_density(
-            r.get(Col::Temperature),
-            GROUND_ELEVATION + r.get(Col::Height),
-        ),
-        aero_force: inv * aero_ned,
+        air_velocity,
+        air_density: density,
+        aero_force: inv * aero_ned - tether_drag,
         tether_dir: inv * dir_ned,
         tension,
         tether_length: length,
@@ -189,5 +204,14 @@ mod tests {
         assert_eq!(s.len(), 1);
         assert!((s[0].aero_force - Vector3::new(0.0, 0.0, expected)).norm() < 1e-9);
         assert!((s[0].tether_dir - Vector3::new(0.0, 0.0, -1.0)).norm() < 1e-12);
+        // With a tether-drag share, its drag along the apparent wind (body
+        // +x here, no angle of attack) is removed from the kite's force.
+        let with_drag = KiteProperties {
+            tether_drag_share: 0.3,
+            ..kite
+        };
+        let d = samples(&cycle, &with_drag);
+        let drag = 0.3 * 0.5 * s[0].air_density * 100.0 * kite.tether_diameter * 100.0;
+        assert!((d[0].aero_force - s[0].aero_force - Vector3::new(drag, 0.0, 0.0)).norm() < 1e-9);
     }
 }

@@ -48,6 +48,10 @@ pub struct FitArgs {
     /// (default 22.0).
     #[arg(long)]
     pub kcu_mass: Option<f64>,
+    /// Tether drag removed by the balance, as the drag-coefficient share c
+    /// of `c ½ρ|V|² d l` (default 0: none; the tether_drag candidate tests it).
+    #[arg(long)]
+    pub tether_drag_share: Option<f64>,
     /// Tether diameter, m (default 0.01).
     #[arg(long)]
     pub tether_diameter: Option<f64>,
@@ -76,6 +80,7 @@ fn fit(a: &FitArgs) -> Result<()> {
     }
     let overrides = [
         (&mut kite.tether_weight_share, a.tether_weight_share),
+        (&mut kite.tether_drag_share, a.tether_drag_share),
         (&mut kite.kcu_mass, a.kcu_mass),
         (&mut kite.tether_diameter, a.tether_diameter),
         (&mut kite.tether_density, a.tether_density),
