@@ -12,3 +12,4 @@ pub mod kirchhoff;
 pub mod panel;
 pub mod shape;
 pub mod simplified;
+pub mod taira;
