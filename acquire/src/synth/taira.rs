@@ -54,7 +54,10 @@ pub fn direction_coefficients(
         let half = 0.5 * size.x * t.x.abs() + 0.5 * size.y * t.y.abs();
         at = t * (0.5 * half * t_len);
     }
-    (force * (area / (l * l)), at.cross(&normal) * (area / (l * l * l)))
+    (
+        force * (area / (l * l)),
+        at.cross(&normal) * (area / (l * l * l)),
+    )
 }
 
 /// The generating coefficient model: the measured plate projected onto SH
