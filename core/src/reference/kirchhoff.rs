@@ -10,7 +10,8 @@
 //! this model only supplies `M_a` for a shape: the added mass of the solid
 //! ellipsoid inscribed in its bounding box ([`super::ellipsoid`], Lamb
 //! §114). For the paper's 30 x 50 x 2 cm plate at ρ = 1.2 kg/m³ that is
-//! 22.0 g normal to the plate (the inscribed elliptic disc; a thin
+//! 20-22 g normal to the plate (the inscribed ellipsoid, a little under
+//! the thin elliptic disc's 22.15 g; a thin
 //! rectangular plate of the same sides has about 30 g, DNV-RP-C205
 //! Table A-1, `C_A = 0.72` for b/a = 1.67) and under 1 g in plane.
 

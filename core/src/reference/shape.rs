@@ -110,6 +110,25 @@ impl Shape {
         out
     }
 
+    /// Force and torque (N, N m, body frame, about the centre) of
+    /// per-element forces `force(element, u)`, each element moving at
+    /// `u = V + Ω × r` through still air (V, Ω body frame): the sum the
+    /// per-element comparison models share.
+    pub fn element_wrench(
+        &self,
+        v: &Vector3<f64>,
+        w: &Vector3<f64>,
+        force: impl Fn(&Element, &Vector3<f64>) -> Vector3<f64>,
+    ) -> (Vector3<f64>, Vector3<f64>) {
+        let (mut f_sum, mut t_sum) = (Vector3::zeros(), Vector3::zeros());
+        self.for_each_element(|e| {
+            let f = force(e, &(v + w.cross(&e.at)));
+            f_sum += f;
+            t_sum += e.at.cross(&f);
+        });
+        (f_sum, t_sum)
+    }
+
     /// Calls `f` for every surface element (`GRID` x `GRID` per face).
     pub fn for_each_element(&self, mut f: impl FnMut(&Element)) {
         for face in &self.faces() {

@@ -72,14 +72,10 @@ pub fn element_force(e: &Element, u: &Vector3<f64>, rho: f64) -> Vector3<f64> {
 impl Forces<f64> for Simplified {
     fn wrench(&self, _t: f64, state: &State<f64>) -> Wrench<f64> {
         let v = state.air_velocity_body(&self.environment.wind);
-        let w = state.angular_velocity;
         let rho = self.environment.air_density;
-        let mut out = Wrench::zero();
-        self.shape.for_each_element(|e| {
-            let f = element_force(e, &(v + w.cross(&e.at)), rho);
-            out.force += f;
-            out.torque += e.at.cross(&f);
-        });
-        out
+        let (force, torque) = self
+            .shape
+            .element_wrench(&v, &state.angular_velocity, |e, u| element_force(e, u, rho));
+        Wrench { force, torque }
     }
 }
