@@ -24,6 +24,8 @@ enum Command {
     /// Evaluate coefficient functions C_F(E), C_T(E).
     #[command(subcommand)]
     Coeffs(cmd::coeffs::CoeffsCommand),
+    /// Validation report of a recording set (the paper's Figs. 8, 12, 13).
+    Report(cmd::report::ReportArgs),
     /// Simulate one body falling through air (RK4).
     Simulate(cmd::simulate::SimulateArgs),
     /// Firmware simulator: the core on a Cortex-M4F in QEMU, replaying flight logs.
@@ -60,6 +62,7 @@ fn main() -> ExitCode {
         Some(Command::Tui(a)) => cmd::tui::run(a),
         Some(Command::Info(a)) => cmd::info::run(a),
         Some(Command::Coeffs(c)) => cmd::coeffs::run(c),
+        Some(Command::Report(a)) => cmd::report::run(a),
         Some(Command::Simulate(a)) => cmd::simulate::run(a),
         Some(Command::Firmware(c)) => cmd::firmware::run(c),
         Some(Command::Kite(c)) => cmd::kite::run(c),

@@ -18,7 +18,9 @@
 //! * [`projection`]: eqs. (11), (13), a direction function onto
 //!   coefficients, by [`quadrature`] on the sphere.
 //! * [`reference`]: independent reference models (the quasi-steady panel
-//!   model) that example coefficients are projected from.
+//!   model) that example coefficients are projected from, and the paper's
+//!   comparison models (Fig. 12).
+//! * [`model`]: the model selector (vacuum, comparison models, OmniAD).
 //!
 //! Every quantity is SI (m, kg, s, rad) unless a doc comment says otherwise.
 #![no_std]
@@ -52,6 +54,7 @@ pub mod kite;
 pub mod lanes;
 pub mod math;
 pub mod metadata;
+pub mod model;
 mod payload;
 pub mod projection;
 pub mod quadrature;

@@ -1,4 +1,7 @@
-//! `omniad simulate FILE --duration S`: one body through air, RK4 (§4.3).
+//! `omniad simulate FILE --duration S`: one body through air, RK4 (§4.3),
+//! under the OmniAD model of FILE or, with `--model`, vacuum or one of the
+//! paper's comparison models (Fig. 12) for a `--shape` (the core's
+//! [`omniad_core::model::Model`]).
 
 use super::common::read_coefficients;
 use anyhow::{bail, Context, Result};
@@ -7,7 +10,8 @@ use indicatif::{ProgressBar, ProgressStyle};
 use nalgebra::{Quaternion, UnitQuaternion, Vector3};
 use omniad_acquire::input::state_csv::{self, TimeFormat};
 use omniad_core::integrate::rk4_step;
-use omniad_core::rigid_body::AirForces;
+use omniad_core::model::{Model, ModelKind};
+use omniad_core::reference::shape::{Shape, ShapeKind};
 use omniad_core::{Environment, RigidBody, State};
 use serde_json::json;
 use std::io::Write;
@@ -16,8 +20,21 @@ use std::path::PathBuf;
 /// Arguments of `omniad simulate`.
 #[derive(Args, Debug)]
 pub struct SimulateArgs {
-    /// Coefficient file (.omni).
-    pub file: PathBuf,
+    /// Coefficient file (.omni); needed by `--model omniad` (the default)
+    /// and for the body when no `--shape` is given.
+    pub file: Option<PathBuf>,
+    /// The air model: `omniad` (the file's coefficients), `vacuum`, or a
+    /// comparison model of the paper's Fig. 12 for `--shape`: `kirchhoff`
+    /// (added mass), `drag-traction`, `simplified`.
+    #[arg(long, value_parser = parse_model, default_value = "omniad")]
+    pub model: ModelKind,
+    /// The body as a uniform shape (`plate` or `box`) of `--size` and
+    /// `--mass` instead of the file's mass properties.
+    #[arg(long, value_parser = parse_shape)]
+    pub shape: Option<ShapeKind>,
+    /// Extents of `--shape` x,y,z (body), m; default the paper's plate.
+    #[arg(long, value_parser = parse_vec3, default_value = "0.3,0.5,0.02")]
+    pub size: Vector3<f64>,
     /// Simulated time, s (at most 1e8 RK4 steps of --dt).
     #[arg(long)]
     pub duration: f64,
@@ -45,7 +62,7 @@ pub struct SimulateArgs {
     /// Air density ρ, kg/m³.
     #[arg(long, default_value_t = 1.2)]
     pub air_density: f64,
-    /// Mass, kg (default: the file's).
+    /// Mass, kg (default: the file's; with `--shape` 0.048, the paper's plate).
     #[arg(long)]
     pub mass: Option<f64>,
     /// Stop when the centre of mass reaches z = 0.
@@ -74,6 +91,21 @@ fn parse_numbers<const N: usize>(s: &str) -> Result<[f64; N], String> {
         }
     }
     Ok(out)
+}
+
+fn parse_model(s: &str) -> Result<ModelKind, String> {
+    ModelKind::from_name(s).ok_or_else(|| {
+        let names: Vec<&str> = ModelKind::ALL.iter().map(|k| k.name()).collect();
+        format!("unknown model {s:?} (known: {})", names.join(", "))
+    })
+}
+
+fn parse_shape(s: &str) -> Result<ShapeKind, String> {
+    match s {
+        "plate" => Ok(ShapeKind::Plate),
+        "box" => Ok(ShapeKind::Box),
+        _ => Err(format!("unknown shape {s:?} (known: plate, box)")),
+    }
 }
 
 fn parse_vec3(s: &str) -> Result<Vector3<f64>, String> {
@@ -149,17 +181,24 @@ fn validate(a: &SimulateArgs) -> Result<u64> {
 /// Runs `omniad simulate`.
 pub fn run(a: &SimulateArgs) -> Result<()> {
     let steps = validate(a)?;
-    let model = read_coefficients(&a.file)?;
-    let body = body_of(&model, a)?;
+    let coefficients = match &a.file {
+        Some(f) => Some(read_coefficients(f)?),
+        None => None,
+    };
+    let shape = shape_of(a)?;
+    let body = match (&shape, &coefficients) {
+        (Some(sh), _) => RigidBody::new(sh.mass, sh.inertia())
+            .map_err(|e| anyhow::anyhow!("--shape {:?} --size: {e}", sh.kind))?,
+        (None, Some(m)) => body_of(m, a)?,
+        (None, None) => bail!("give a coefficient FILE or --shape"),
+    };
     let env = Environment {
         gravity: Vector3::new(0.0, 0.0, -9.81),
         air_density: a.air_density,
         wind: a.wind,
     };
-    let forces = AirForces {
-        model: &model,
-        environment: env,
-    };
+    let forces = Model::new(a.model, shape.as_ref(), coefficients.as_ref(), env)
+        .map_err(|e| anyhow::anyhow!("--model: {e}"))?;
     let mut s = State {
         position: a.position,
         orientation: a.orientation,
@@ -255,12 +294,32 @@ fn report(
     Ok(())
 }
 
+/// The `--shape` body: `--size` (positive, finite) and `--mass`.
+fn shape_of(a: &SimulateArgs) -> Result<Option<Shape>> {
+    let Some(kind) = a.shape else {
+        return Ok(None);
+    };
+    if !a.size.iter().all(|x| x.is_finite() && *x > 0.0) {
+        bail!("--size must be three positive extents, m");
+    }
+    let mass = a.mass.unwrap_or(Shape::PAPER_PLATE.mass);
+    if !(mass.is_finite() && mass > 0.0) {
+        bail!("--mass must be positive");
+    }
+    Ok(Some(Shape {
+        kind,
+        size: a.size,
+        mass,
+    }))
+}
+
 fn body_of(model: &omniad_core::Coefficients<f64>, a: &SimulateArgs) -> Result<RigidBody<f64>> {
     let props = model
         .body
         .context("the coefficient file records no mass properties")?;
+    let name = a.file.as_deref().unwrap_or(std::path::Path::new("FILE"));
     let mut body = RigidBody::from_properties(&props)
-        .map_err(|e| anyhow::anyhow!("{}: {e}", a.file.display()))?;
+        .map_err(|e| anyhow::anyhow!("{}: {e}", name.display()))?;
     if let Some(m) = a.mass {
         if !(m.is_finite() && m > 0.0) {
             bail!("--mass must be positive");

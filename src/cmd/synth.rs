@@ -13,6 +13,9 @@ pub enum ObjectArg {
     Plate,
     /// Box-kite cell 30 x 40 x 20 cm open along y, 40 g.
     Box,
+    /// The plate (30 x 50 x 2 cm, 48 g) with the measured flat-plate lift
+    /// and drag of Taira et al. 2007 (Re 100) instead of the panel model.
+    TairaPlate,
 }
 
 /// Arguments of `omniad synth`.
@@ -95,6 +98,7 @@ pub fn run(a: &SynthArgs) -> Result<()> {
     let object = match a.object {
         ObjectArg::Plate => SynthObject::Plate,
         ObjectArg::Box => SynthObject::Box,
+        ObjectArg::TairaPlate => SynthObject::TairaPlate,
     };
     let cfg = SynthConfig {
         object,

@@ -9,6 +9,7 @@
 //! (`SCALE` x ½ρ L³ Ω × V, body frame).
 
 pub(crate) mod rng;
+pub mod taira;
 pub mod truth;
 pub mod write;
 
@@ -26,6 +27,9 @@ pub enum SynthObject {
     Plate,
     /// Box-kite cell 30 x 40 x 20 cm open along y, 40 g.
     Box,
+    /// The plate's size and mass with the measured lift and drag of
+    /// [`taira`] (the paper's Fig. 13 validation).
+    TairaPlate,
 }
 
 /// An effect outside the OmniAD model.
@@ -124,6 +128,10 @@ impl ObjectSpec {
                 pole: Vector3::z(),
                 faces: vec![Vector3::z(), -Vector3::z()],
             },
+            SynthObject::TairaPlate => Self {
+                name: taira::NAME,
+                ..Self::of(SynthObject::Plate)
+            },
             SynthObject::Box => Self {
                 name: "openbox",
                 mass: 0.04,
@@ -175,6 +183,9 @@ impl ObjectSpec {
 
 /// The generating coefficient model: the panel model projected onto SH.
 pub fn truth_model(spec: &ObjectSpec, degree: u8) -> Result<Coefficients<f64>> {
+    if spec.name == taira::NAME {
+        return taira::truth_model(spec, degree);
+    }
     let panels = spec.panels();
     let l = spec.reference_length();
     let rho = 1.0;
