@@ -55,7 +55,20 @@ enum Command {
     Lab(cmd::lab::LabCommand),
 }
 
+/// Restores the default action of SIGPIPE, which Rust's runtime ignores:
+/// `omniad ... | head` then ends quietly when `head` closes the pipe, as
+/// every Unix filter does, instead of panicking on the failed write.
+fn quiet_on_closed_pipe() {
+    #[cfg(unix)]
+    // SAFETY: called first in main, before any thread exists; SIG_DFL is a
+    // valid disposition for SIGPIPE.
+    unsafe {
+        libc::signal(libc::SIGPIPE, libc::SIG_DFL);
+    }
+}
+
 fn main() -> ExitCode {
+    quiet_on_closed_pipe();
     let cli = Cli::parse();
     let result = match &cli.command {
         None => cmd::tui::run_default(),

@@ -323,3 +323,31 @@ fn a_fit_the_data_cannot_support_names_the_take() {
     );
     assert!(!model.exists(), "nothing written");
 }
+
+/// `omniad ... | head` closes the pipe early: the command ends quietly (as
+/// Unix filters do), never with a panic message.
+#[cfg(unix)]
+#[test]
+fn a_closed_output_pipe_ends_the_command_quietly() {
+    use std::io::{BufRead, BufReader};
+    let mut child = omniad()
+        .args([
+            "simulate",
+            plate().to_str().expect("path"),
+            "--duration",
+            "100",
+            "--csv",
+        ])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("spawn");
+    let mut first = String::new();
+    BufReader::new(child.stdout.take().expect("stdout"))
+        .read_line(&mut first)
+        .expect("read");
+    assert!(first.starts_with("t,x,y,z"));
+    let out = child.wait_with_output().expect("wait");
+    assert!(!stderr(&out).contains("panicked"), "{}", stderr(&out));
+    assert_ne!(out.status.code(), Some(101), "not a panic exit");
+}
