@@ -11,6 +11,7 @@ pub mod kite;
 pub mod lab;
 pub mod panel;
 pub mod reconstruct;
+pub mod residual;
 pub mod simulate;
 pub mod synth;
 pub mod tui;
