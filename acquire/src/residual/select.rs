@@ -17,8 +17,14 @@ use crate::residual::problems::Problems;
 use nalgebra::DVector;
 
 /// Smallest relative reduction of the held-out weighted squared force
-/// error for which an effect is kept (5 %).
-pub const MIN_GAIN: f64 = 0.05;
+/// error for which an effect is kept (10 %). Why not less: on clean
+/// synthetic sets (20 sets, plate and box, seeds 1-10, BENCHMARKS.md) the
+/// reconstruction's own systematic errors let single named effects gain
+/// up to 8 % on held-out takes, consistently across takes (the box's
+/// rotational lift c ≈ 0.002 on every seed, 11 of 13 takes on one), which
+/// the sign test alone cannot tell from physics; the effects at realistic
+/// strength gain 30-85 %.
+pub const MIN_GAIN: f64 = 0.10;
 
 /// Significance of the sign test across held-out takes (one-sided).
 pub const SIGN_LEVEL: f64 = 0.05;
