@@ -38,7 +38,7 @@ pub struct SynthArgs {
     pub effect: Vec<String>,
     /// Steady wind of the recording, world frame `x,y,z`, m/s (the physics
     /// sees the air velocity v - w; recorded in truth/model.toml).
-    #[arg(long, value_delimiter = ',', num_args = 3, allow_hyphen_values = true)]
+    #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
     pub wind: Option<Vec<f64>>,
     /// Tracking noise, 1 sigma, px.
     #[arg(long, default_value_t = 0.7)]
