@@ -41,6 +41,9 @@ enum Command {
     Tui(cmd::tui::TuiArgs),
     /// Fit a coefficient file to a recording set (paper §5-6).
     Fit(cmd::fit::FitArgs),
+    /// Find the residual on held-out takes, the effect it points to, and
+    /// the error before and after adding it (issue 15).
+    Residual(cmd::residual::ResidualArgs),
     /// Smoothed rigid-body states of every take of a recording set (§5).
     Reconstruct(cmd::reconstruct::ReconstructArgs),
     /// Generate a synthetic recording set (with truth/) from a known model.
@@ -82,6 +85,7 @@ fn main() -> ExitCode {
         Some(Command::Panel(a)) => cmd::panel::run(a),
         Some(Command::Fit(a)) => cmd::fit::run(a),
         Some(Command::Reconstruct(a)) => cmd::reconstruct::run(a),
+        Some(Command::Residual(a)) => cmd::residual::run(a),
         Some(Command::Synth(a)) => cmd::synth::run(a),
         Some(Command::ImportTracks(a)) => cmd::import::run(a),
         Some(Command::Flight(c)) => cmd::flight::run(c),

@@ -16,6 +16,7 @@ pub mod lab;
 pub(crate) mod parallel;
 pub mod pipeline;
 pub mod reconstruct;
+pub mod residual;
 pub mod synth;
 
 pub use error::{Error, Result};

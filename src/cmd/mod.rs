@@ -12,6 +12,7 @@ pub mod lab;
 pub mod panel;
 pub mod reconstruct;
 pub mod report;
+pub mod residual;
 pub mod simulate;
 pub mod synth;
 pub mod tui;

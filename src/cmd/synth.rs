@@ -30,9 +30,19 @@ pub struct SynthArgs {
     /// Object.
     #[arg(long, value_enum, default_value_t = ObjectArg::Plate)]
     pub object: ObjectArg,
-    /// Effect outside the OmniAD model, `NAME[=SCALE]` (buoyancy, magnus); repeatable.
+    /// Effect outside the OmniAD model, `NAME[=SCALE]`, repeatable; SCALE 1
+    /// is physical: buoyancy (V_b = SCALE x the bounding box's volume),
+    /// added_mass (SCALE x the potential-flow added-mass tensor of the
+    /// ellipsoid inscribed in the bounding box, Lamb §114), rotational_lift
+    /// (ρL³ c Ω×V, c = SCALE), magnus (rotational_lift with c = SCALE/2,
+    /// i.e. ½ρL³ SCALE Ω×V), linear_drag (-k μ L V, k = SCALE x 3π, Stokes),
+    /// propeller_thrust (½ρL⁴|Ω| K Ω, K = SCALE x Z Zᵀ with Z the pole).
     #[arg(long)]
     pub effect: Vec<String>,
+    /// Steady wind of the recording, world frame `x,y,z`, m/s (the physics
+    /// sees the air velocity v - w; recorded in truth/model.toml).
+    #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
+    pub wind: Option<Vec<f64>>,
     /// Tracking noise, 1 sigma, px.
     #[arg(long, default_value_t = 0.7)]
     pub noise: f64,
@@ -66,6 +76,18 @@ fn refuse_existing(out: &Path, force: bool) -> Result<()> {
         out.display()
     );
     Ok(())
+}
+
+/// The `--wind` vector (zero when not given).
+fn wind(w: Option<&[f64]>) -> Result<nalgebra::Vector3<f64>> {
+    let Some(w) = w else {
+        return Ok(nalgebra::Vector3::zeros());
+    };
+    anyhow::ensure!(
+        w.len() == 3 && w.iter().all(|v| v.is_finite() && v.abs() <= 50.0),
+        "--wind must be three finite components x,y,z in m/s (each at most 50)"
+    );
+    Ok(nalgebra::Vector3::new(w[0], w[1], w[2]))
 }
 
 /// Runs `omniad synth`.
@@ -107,6 +129,7 @@ pub fn run(a: &SynthArgs) -> Result<()> {
         seed: a.seed,
         takes: (a.drops, a.spins),
         outliers: a.outliers,
+        wind: wind(a.wind.as_deref())?,
         ..SynthConfig::default()
     };
     omniad_acquire::synth::write::generate(&a.out, &cfg).map_err(|e| anyhow::anyhow!("{e}"))?;

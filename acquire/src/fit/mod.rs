@@ -14,6 +14,7 @@ pub(crate) mod damping;
 pub mod effects;
 pub mod extensions;
 pub(crate) mod force;
+pub(crate) mod joint;
 pub(crate) mod lsq;
 pub mod model;
 pub(crate) mod normals;

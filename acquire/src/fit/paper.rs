@@ -167,6 +167,7 @@ mod tests {
                 kind,
                 velocity,
                 angular_velocity,
+                velocity_rate: nalgebra::Vector3::zeros(),
                 force: w.force,
                 torque: w.torque,
                 gravity_body: nalgebra::Vector3::new(0.0, 0.0, -9.81),

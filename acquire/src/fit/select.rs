@@ -36,6 +36,18 @@ pub(crate) fn held_out_scores<P: Sync>(
     }))
 }
 
+/// Every fold's result `fold(t)` (take `t` held out) on all cores, in
+/// take order, for selections that need each held-out take's error (a
+/// paired test across takes, `crate::residual`) and not only their sum;
+/// `None` with fewer than [`MIN_TAKES`] takes.
+pub(crate) fn per_fold<T: Send>(takes: usize, fold: impl Fn(usize) -> T + Sync) -> Option<Vec<T>> {
+    if takes < MIN_TAKES {
+        return None;
+    }
+    let folds: Vec<usize> = (0..takes).collect();
+    Some(crate::parallel::map(&folds, |_, &t| fold(t)))
+}
+
 /// The first candidate of lowest score (`None` scores lose), or
 /// `fallback` when none scores below infinity.
 pub(crate) fn best<P: Copy>(candidates: &[P], scores: &[Option<f64>], fallback: P) -> P {

@@ -172,3 +172,38 @@ fn accumulate(ata: &mut DMatrix<f64>, atb: &mut DVector<f64>, n: usize, r: &Torq
         atb[d0 + i] += di * r.target;
     }
 }
+
+/// A frame's three torque equations as dense rows over `(β¹, β², β³, d)`
+/// (3 x (3n + 6)), their targets, and the unit axes they are taken along
+/// (as rows; the basis `E^i` when `V != 0`, else the body axes): the joint
+/// problems of the residual analysis ([`crate::fit::joint`]) add their
+/// columns along the same axes.
+pub(crate) fn dense_rows(
+    s: &Sample,
+    ctx: &FitContext,
+    degree: usize,
+) -> (DMatrix<f64>, Vector3<f64>, nalgebra::Matrix3<f64>) {
+    let n = coeff_count(degree);
+    let rows = torque_rows(s, ctx, degree);
+    let mut m = DMatrix::zeros(3, 3 * n + 6);
+    let mut target = Vector3::zeros();
+    for (i, r) in rows.iter().enumerate().take(3) {
+        if let Some(b) = r.block {
+            for (k, y) in r.sh.iter().enumerate() {
+                m[(i, b * n + k)] = *y;
+            }
+        }
+        for (j, d) in r.damp.iter().enumerate() {
+            m[(i, 3 * n + j)] = *d;
+        }
+        target[i] = r.target;
+    }
+    let speed = s.velocity.norm();
+    let axes = if speed > 0.0 {
+        let (_, basis) = sh_and_basis(degree, &(s.velocity / speed), &ctx.pole);
+        nalgebra::Matrix3::from_rows(&basis.map(|b| b.transpose()))
+    } else {
+        nalgebra::Matrix3::identity()
+    };
+    (m, target, axes)
+}

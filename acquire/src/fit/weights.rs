@@ -149,6 +149,7 @@ mod tests {
             kind: TakeKind::Drop,
             velocity,
             angular_velocity: Vector3::new(1.0, -2.0, 0.5),
+            velocity_rate: Vector3::zeros(),
             force: Vector3::zeros(),
             torque: Vector3::zeros(),
             gravity_body: Vector3::new(0.0, 0.0, -9.81),

@@ -20,6 +20,10 @@ pub struct Sample {
     pub velocity: Vector3<f64>,
     /// Angular velocity Ω*, body frame, rad/s.
     pub angular_velocity: Vector3<f64>,
+    /// `dV*/dt`, the rate of change of the body-frame components of V*
+    /// (central difference of `R_kᵀ v_k`), m/s²: what added mass acts on
+    /// ([`omniad_core::effect::EffectInputs::velocity_rate`]).
+    pub velocity_rate: Vector3<f64>,
     /// Aerodynamic force F*, body frame, N (eq. 9).
     pub force: Vector3<f64>,
     /// Aerodynamic torque T*, body frame, N m (eq. 10).
@@ -88,6 +92,9 @@ pub fn reconstruct(
         let torque = object.inertia * (next.angular_velocity - prev.angular_velocity) / h
             + omega.cross(&(object.inertia * omega));
         let velocity = cur.orientation.inverse_transform_vector(&cur.velocity);
+        let velocity_rate = (next.orientation.inverse_transform_vector(&next.velocity)
+            - prev.orientation.inverse_transform_vector(&prev.velocity))
+            / h;
         // Eq. (9) is linear in v_{k+1} - v_{k-1}: Σ_F = (M/h)² Rᵀ Σ_Δv R
         // (the orientation's own uncertainty is neglected).
         let rot = cur.orientation.to_rotation_matrix();
@@ -97,7 +104,7 @@ pub fn reconstruct(
             .map_or_else(Matrix3::zeros, |c| {
                 rot.matrix().transpose() * c * rot.matrix() * (object.mass / h).powi(2)
             });
-        let all = [force, torque, velocity, omega];
+        let all = [force, torque, velocity, omega, velocity_rate];
         if all.iter().any(|v| v.iter().any(|x| !x.is_finite())) {
             stats.non_finite += 1;
             continue;
@@ -117,6 +124,7 @@ pub fn reconstruct(
             kind,
             velocity,
             angular_velocity: omega,
+            velocity_rate,
             force,
             torque,
             gravity_body: cur.orientation.inverse_transform_vector(gravity),

@@ -4,10 +4,13 @@
 //! [`omniad_core::projection`]), simulated
 //! with the core RK4, filmed by the shared sets' camera, with `truth/`.
 //!
-//! Effects outside the OmniAD model can be added to the physics:
-//! `buoyancy` (displaced air, `SCALE` x ρ V g up) and `magnus`
-//! (`SCALE` x ½ρ L³ Ω × V, body frame).
+//! Effects outside the OmniAD model can be added to the physics, each one
+//! of the core's named effects ([`effects`] says what each SCALE means),
+//! and a steady wind (the air moves at `w`: the physics sees `v - w`, the
+//! markers the body's own motion).
 
+pub mod added_mass;
+pub mod effects;
 pub(crate) mod rng;
 pub mod taira;
 pub mod truth;
@@ -16,6 +19,7 @@ pub mod write;
 use crate::error::{Error, Result};
 use crate::synth::rng::Rng;
 use nalgebra::{Matrix3, UnitQuaternion, Vector3};
+use omniad_core::effect::EffectInputs;
 use omniad_core::reference::panel::PanelModel;
 use omniad_core::rigid_body::{AirForces, Forces};
 use omniad_core::{Coefficients, Environment, RigidBody, State, Wrench};
@@ -32,39 +36,7 @@ pub enum SynthObject {
     TairaPlate,
 }
 
-/// An effect outside the OmniAD model.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Effect {
-    /// `buoyancy` or `magnus`.
-    pub name: String,
-    /// Scale (1 = physical).
-    pub scale: f64,
-}
-
-impl Effect {
-    /// Parses `NAME[=SCALE]`.
-    pub fn parse(s: &str) -> Result<Self> {
-        let (name, scale) = match s.split_once('=') {
-            Some((n, v)) => (
-                n,
-                v.parse::<f64>()
-                    .ok()
-                    .filter(|x| x.is_finite())
-                    .ok_or_else(|| Error::Data(format!("effect `{s}`: SCALE must be a number")))?,
-            ),
-            None => (s, 1.0),
-        };
-        if !["buoyancy", "magnus"].contains(&name) {
-            return Err(Error::Data(format!(
-                "unknown effect `{name}` (known: buoyancy, magnus)"
-            )));
-        }
-        Ok(Self {
-            name: name.to_owned(),
-            scale,
-        })
-    }
-}
+pub use effects::EffectSpec as Effect;
 
 /// Settings of a synthetic set.
 #[derive(Clone, Debug, PartialEq)]
@@ -73,6 +45,8 @@ pub struct SynthConfig {
     pub object: SynthObject,
     /// Effects added to the physics.
     pub effects: Vec<Effect>,
+    /// Steady wind, world frame, m/s.
+    pub wind: Vector3<f64>,
     /// Tracking noise, 1 sigma, px.
     pub noise: f64,
     /// Seed.
@@ -92,6 +66,7 @@ impl Default for SynthConfig {
         Self {
             object: SynthObject::Plate,
             effects: Vec::new(),
+            wind: Vector3::zeros(),
             noise: 0.7,
             seed: 1,
             takes: (8, 5),
@@ -199,37 +174,39 @@ pub fn truth_model(spec: &ObjectSpec, degree: u8) -> Result<Coefficients<f64>> {
     Ok(m)
 }
 
-/// The physics of a synthetic set: the OmniAD model plus effects.
+/// The physics of a synthetic set: the OmniAD model plus named effects,
+/// each evaluated by the core ([`omniad_core::effect::Effect::wrench`];
+/// added mass with `dV/dt = 0` there, its `-M_a dV/dt` carried by the
+/// equations of motion through [`Forces::added_mass`]).
 pub struct SynthForces<'a> {
-    /// Model and environment.
+    /// Model and environment (wind included).
     pub air: AirForces<'a, f64>,
-    /// Effects.
-    pub effects: &'a [Effect],
-    /// Displaced volume, m³.
-    pub volume: f64,
+    /// The effects with their parameters.
+    pub effects: &'a [omniad_core::effect::Effect<f64>],
 }
 
 impl Forces<f64> for SynthForces<'_> {
     fn wrench(&self, t: f64, s: &State<f64>) -> Wrench<f64> {
         let mut w = self.air.wrench(t, s);
         let env = &self.air.environment;
-        let l = self.air.model.reference_length();
+        let inputs = EffectInputs {
+            velocity: s.air_velocity_body(&env.wind),
+            angular_velocity: s.angular_velocity,
+            gravity: s.orientation.inverse_transform_vector(&env.gravity),
+            velocity_rate: Vector3::zeros(),
+            air_density: env.air_density,
+            reference_length: self.air.model.reference_length(),
+        };
         for e in self.effects {
-            match e.name.as_str() {
-                "buoyancy" => {
-                    w.force += s.orientation.inverse_transform_vector(
-                        &(-env.gravity * env.air_density * self.volume * e.scale),
-                    )
-                }
-                "magnus" => {
-                    let v = s.air_velocity_body(&env.wind);
-                    w.force += s.angular_velocity.cross(&v)
-                        * (0.5 * env.air_density * l.powi(3) * e.scale);
-                }
-                _ => {}
-            }
+            let f = e.wrench(&inputs);
+            w.force += f.force;
+            w.torque += f.torque;
         }
         w
+    }
+
+    fn added_mass(&self) -> Option<Matrix3<f64>> {
+        self.effects.iter().find_map(|e| e.added_mass())
     }
 }
 

@@ -44,7 +44,15 @@ pub fn generate(out: &Path, cfg: &SynthConfig) -> Result<()> {
     let model = truth_model(&spec, cfg.degree)?;
     let inertia = spec.inertia();
     let body = RigidBody::new(spec.mass, inertia).map_err(|e| Error::Data(e.to_string()))?;
-    let env = Environment::<f64>::standard();
+    let env = Environment::<f64> {
+        wind: cfg.wind,
+        ..Environment::standard()
+    };
+    let effects = cfg
+        .effects
+        .iter()
+        .map(|e| e.effect(&spec, env.air_density))
+        .collect::<Result<Vec<_>>>()?;
     let camera = standard_camera(cfg.noise.max(1e-3));
     let markers = spec.markers();
     let forces = SynthForces {
@@ -52,8 +60,7 @@ pub fn generate(out: &Path, cfg: &SynthConfig) -> Result<()> {
             model: &model,
             environment: env,
         },
-        effects: &cfg.effects,
-        volume: spec.size.x * spec.size.y * spec.size.z,
+        effects: &effects,
     };
     let mut rng = Rng::new(cfg.seed);
     // Outliers draw from their own stream: the same seed gives the same
@@ -108,16 +115,44 @@ pub fn generate(out: &Path, cfg: &SynthConfig) -> Result<()> {
         &truth_dir.join("coefficients.csv"),
         &coefficients_csv(&model),
     )?;
-    let effects: String = cfg
-        .effects
-        .iter()
-        .map(|e| format!("{} = {}\n", e.name, e.scale))
-        .collect();
-    let d = model.damping();
     write(
         &truth_dir.join("model.toml"),
-        &format!("engine = \"omniad-sh\"\ndegree = {}\nseed = {}\ndamping = [{}, {}, {}]\n[effects]\n{effects}", cfg.degree, cfg.seed, v3(&d.row(0).transpose()), v3(&d.row(1).transpose()), v3(&d.row(2).transpose())),
+        &truth_toml(&model, cfg, &effects),
     )
+}
+
+/// `truth/model.toml`: the generating model's constants, the wind, and
+/// each effect's SCALE (`[effects]`, as given) and parameters
+/// (`[parameters]`, the core's order, e.g. buoyancy's V_b in m³).
+fn truth_toml(
+    model: &omniad_core::Coefficients<f64>,
+    cfg: &SynthConfig,
+    effects: &[omniad_core::effect::Effect<f64>],
+) -> String {
+    let d = model.damping();
+    let mut s = format!(
+        "engine = \"omniad-sh\"\ndegree = {}\nseed = {}\ndamping = [{}, {}, {}]\nwind = {}\n[effects]\n",
+        cfg.degree,
+        cfg.seed,
+        v3(&d.row(0).transpose()),
+        v3(&d.row(1).transpose()),
+        v3(&d.row(2).transpose()),
+        v3(&cfg.wind)
+    );
+    for e in &cfg.effects {
+        let _ = writeln!(s, "{} = {}", e.name, e.scale);
+    }
+    s.push_str("[parameters]\n");
+    for e in effects {
+        let p: Vec<String> = e
+            .params
+            .iter()
+            .take(e.kind.param_count())
+            .map(|v| v.to_string())
+            .collect();
+        let _ = writeln!(s, "{} = [{}]", e.kind.name(), p.join(", "));
+    }
+    s
 }
 
 fn header(

@@ -1,0 +1,128 @@
+//! The extended model: the base model with alpha refitted jointly with the
+//! selected effects (beta and D too when an effect acts on the torque),
+//! the named effects stored in the core's `Coefficients::set_effect`, the
+//! generic blocks as the spin and gravity couplings. A wind is the
+//! recording's, not the body's: it is reported, not stored.
+
+use crate::error::{Error, Result};
+use crate::fit::damping::{matrix, with_floor};
+use crate::residual::candidates::Candidate;
+use crate::residual::problems::Problems;
+use crate::residual::select::design_columns;
+use nalgebra::{DVector, Matrix3, Vector3};
+use omniad_core::effect::{Effect, EffectKind};
+use omniad_core::gravity_coupling::GravityCoupling;
+use omniad_core::spin_coupling::SpinCoupling;
+use omniad_core::Coefficients;
+
+fn model_error(e: omniad_core::ModelError) -> Error {
+    Error::Data(format!("cannot build the extended model: {e}"))
+}
+
+/// What the joint fit of a design on all takes gives.
+pub struct Extended {
+    /// The model.
+    pub model: Coefficients<f64>,
+    /// The wind, when selected (world frame, m/s).
+    pub wind: Option<Vector3<f64>>,
+    /// Each selected candidate's parameters.
+    pub params: Vec<(Candidate, Vec<f64>)>,
+}
+
+/// Alpha (and beta, D when `refit_torque`) from the joint solutions.
+fn with_coefficients(
+    base: &Coefficients<f64>,
+    force: &DVector<f64>,
+    torque: Option<&DVector<f64>>,
+    damping_floor: f64,
+) -> Result<Coefficients<f64>> {
+    let mut m = base.clone();
+    let n = m.coeff_count();
+    for i in 0..3 {
+        for k in 0..n {
+            m.set_alpha(i, k, force[i * n + k]).map_err(model_error)?;
+        }
+    }
+    if let Some(t) = torque {
+        for i in 0..3 {
+            for k in 0..n {
+                m.set_beta(i, k, t[i * n + k]).map_err(model_error)?;
+            }
+        }
+        let raw: [f64; 6] = std::array::from_fn(|j| t[3 * n + j]);
+        m.set_damping(&matrix(&with_floor(&raw, damping_floor)))
+            .map_err(model_error)?;
+    }
+    Ok(m)
+}
+
+/// The model of `design` fitted on all takes over `base`.
+pub(crate) fn extend(
+    p: &Problems,
+    base: &Coefficients<f64>,
+    design: &[Candidate],
+    damping_floor: f64,
+) -> Result<Extended> {
+    let cols = design_columns(p, design);
+    let force = p.force.solve(&cols, None, None).x;
+    let b = p.force.base;
+    let u: Vec<f64> = (b..force.len()).map(|i| force[i]).collect();
+    let torque = design
+        .iter()
+        .any(|c| c.has_torque())
+        .then(|| p.torque.solve(&cols, Some(&u), None).x);
+    let mut model = with_coefficients(base, &force, torque.as_ref(), damping_floor)?;
+    let mut params = Vec::new();
+    let mut wind = None;
+    let mut at = 0;
+    for c in design {
+        let v: Vec<f64> = u.get(at..at + c.width()).unwrap_or(&[]).to_vec();
+        at += c.width();
+        store(&mut model, *c, &v)?;
+        if *c == Candidate::Wind {
+            wind = Some(Vector3::new(v[0], v[1], v[2]));
+        }
+        params.push((*c, v));
+    }
+    Ok(Extended {
+        model,
+        wind,
+        params,
+    })
+}
+
+/// Stores candidate `c` with parameters `v` in `m` (added mass projected
+/// onto positive semi-definite tensors, as the equations of motion need).
+fn store(m: &mut Coefficients<f64>, c: Candidate, v: &[f64]) -> Result<()> {
+    match c {
+        Candidate::Named(EffectKind::AddedMass) => {
+            let six: [f64; 6] = std::array::from_fn(|i| v.get(i).copied().unwrap_or(0.0));
+            let psd = omniad_core::math::nearest_psd(&omniad_core::math::symmetric_from_six(six));
+            let e = Effect::new(
+                EffectKind::AddedMass,
+                &omniad_core::math::six_from_symmetric(&psd),
+            );
+            m.set_effect(e.ok_or_else(|| Error::Data("added mass: bad parameters".into()))?)
+                .map_err(model_error)
+        }
+        Candidate::Named(kind) => {
+            let e = Effect::new(kind, v)
+                .ok_or_else(|| Error::Data(format!("{}: bad parameters", kind.name())))?;
+            m.set_effect(e).map_err(model_error)
+        }
+        Candidate::Wind => Ok(()),
+        Candidate::SpinCoupling => {
+            let at = |i: usize| v.get(i).copied().unwrap_or(0.0);
+            let k = SpinCoupling {
+                k: std::array::from_fn(|i| std::array::from_fn(|jk| at(i * 9 + jk))),
+            };
+            m.set_spin_coupling(Some(k)).map_err(model_error)
+        }
+        Candidate::GravityCoupling => {
+            let g = GravityCoupling {
+                g: Matrix3::from_fn(|i, j| v.get(i * 3 + j).copied().unwrap_or(0.0)),
+            };
+            m.set_gravity_coupling(Some(g)).map_err(model_error)
+        }
+    }
+}

@@ -1,0 +1,258 @@
+//! `omniad residual` (issue 15): find the base model's residual on
+//! held-out takes, name the effect it points to, add it, and report the
+//! error before and after.
+//!
+//! 1. The base model (no extensions) is fitted by the refinement
+//!    ([`crate::pipeline::fit`]).
+//! 2. Every candidate ([`candidates`]) is fitted jointly with alpha in one
+//!    force problem and one torque problem ([`problems`],
+//!    [`crate::fit::joint`]), scored leave-one-take-out.
+//! 3. Greedy forward selection with a gain threshold, a sign test across
+//!    held-out takes, plausibility and parsimony ([`select`]); clean air
+//!    gets nothing.
+//! 4. The extended model ([`extend`]) is re-simulated against the
+//!    reconstruction ([`resimulate`]); the residual is diagnosed
+//!    ([`diagnose`]) and described in words ([`words`]).
+//!
+//! Limits: the states are not re-reconstructed with the effect in the
+//! process model (the refit is of the coefficients only); the wind is
+//! linearised about no wind (one Gauss-Newton step).
+
+pub mod candidates;
+pub mod diagnose;
+pub mod extend;
+pub mod plots;
+pub(crate) mod problems;
+pub mod resimulate;
+pub mod select;
+pub mod words;
+
+use crate::error::{Error, Result};
+use crate::fit::context::FitContext;
+use crate::input::recording::RecordingSet;
+use crate::pipeline::{fit, FitConfig};
+use crate::reconstruct::run::Progress;
+use candidates::ColumnContext;
+use nalgebra::Vector3;
+use omniad_core::Coefficients;
+use serde::Serialize;
+use std::path::Path;
+
+/// Held-out RMS errors.
+#[derive(Clone, Copy, Debug, Serialize)]
+pub struct HeldOut {
+    /// Force, N.
+    pub heldout_force_rms: f64,
+    /// Torque, N m.
+    pub heldout_torque_rms: f64,
+}
+
+/// One candidate in the report.
+#[derive(Clone, Debug, Serialize)]
+pub struct CandidateReport {
+    /// Name.
+    pub effect: String,
+    /// Selection step it was tried at (0 first).
+    pub step: usize,
+    /// Held-out force RMS with it, N.
+    pub heldout_force_rms: f64,
+    /// Held-out torque RMS with it, N m.
+    pub heldout_torque_rms: f64,
+    /// Relative gain of the weighted held-out force error.
+    pub gain: f64,
+    /// Held-out takes predicted better.
+    pub takes_better: usize,
+    /// Held-out takes.
+    pub takes: usize,
+    /// Parameters (the library's order and units; wind: world m/s).
+    pub params: Vec<f64>,
+    /// Jackknife standard errors over the held-out folds.
+    pub uncertainty: Vec<f64>,
+    /// Why it was not kept.
+    pub rejected: Option<String>,
+}
+
+/// Trajectory RMS position error over the first 0.5 s, m.
+#[derive(Clone, Copy, Debug, Serialize)]
+pub struct Resimulation {
+    /// With the base model.
+    pub base_m: f64,
+    /// With the extended model.
+    pub extended_m: f64,
+}
+
+/// C_F relative error against `truth/` (synthetic sets).
+#[derive(Clone, Copy, Debug, Serialize)]
+pub struct TruthError {
+    /// Base model.
+    pub before: f64,
+    /// Extended model.
+    pub after: f64,
+    /// Directions compared.
+    pub directions: usize,
+}
+
+/// The analysis.
+#[derive(Clone, Debug, Serialize)]
+pub struct Report {
+    /// The base model's held-out errors.
+    pub baseline: HeldOut,
+    /// Every candidate as tried.
+    pub candidates: Vec<CandidateReport>,
+    /// Kept effects, strongest (first chosen) first.
+    pub selected: Vec<String>,
+    /// The extended model's held-out errors.
+    pub after: HeldOut,
+    /// Re-simulation of the takes.
+    pub resimulation: Option<Resimulation>,
+    /// C_F error against the truth, when the set has `truth/`.
+    pub cf_error_vs_truth: Option<TruthError>,
+    /// The selected wind (world frame, m/s).
+    pub wind: Option<[f64; 3]>,
+    /// The residual's diagnosis.
+    pub diagnosis: diagnose::Diagnosis,
+    /// The report in words.
+    pub words: Vec<String>,
+    /// Frames and takes analysed.
+    pub frames: usize,
+    /// Takes analysed.
+    pub takes: usize,
+}
+
+/// The analysis and the models.
+pub struct Analysis {
+    /// The report.
+    pub report: Report,
+    /// The base model.
+    pub base: Coefficients<f64>,
+    /// The extended model.
+    pub extended: Coefficients<f64>,
+}
+
+/// Runs the analysis of the set in `dir`.
+pub fn analyse(
+    dir: &Path,
+    set: &RecordingSet,
+    cfg: &FitConfig,
+    progress: &dyn Progress,
+) -> Result<Analysis> {
+    let mut base_cfg = cfg.clone();
+    base_cfg.lsq.extensions = false;
+    let outcome = fit(set, &base_cfg, progress)?;
+    let smoothing = outcome
+        .iterations
+        .iter()
+        .rfind(|r| !r.rejected)
+        .and_then(|r| r.smoothing)
+        .ok_or_else(|| Error::Data("the base fit chose no smoothing".into()))?;
+    let (rho, l) = (set.world.air_density, set.object.reference_length);
+    let ctx = FitContext {
+        air_density: rho,
+        reference_length: l,
+        pole: set.object.pole,
+    };
+    let cols = ColumnContext {
+        air_density: rho,
+        reference_length: l,
+        model: &outcome.model,
+    };
+    progress.stage("residual: normal equations", 1);
+    let p = problems::build(
+        &outcome.samples,
+        &outcome.reconstruction,
+        &ctx,
+        &cols,
+        usize::from(cfg.degree),
+        smoothing,
+    );
+    progress.tick();
+    let sel = select::select(&p, rho, l, progress).ok_or_else(|| {
+        Error::Data(format!(
+            "the residual analysis needs at least {} takes with usable frames",
+            crate::fit::select::MIN_TAKES
+        ))
+    })?;
+    let ext = extend::extend(&p, &outcome.model, &sel.selected, cfg.lsq.damping_floor)?;
+    let diagnosis = diagnose::diagnose(&p, &sel.baseline.residuals);
+    let resimulation = resimulate::position_rms(
+        set,
+        &outcome.reconstruction,
+        &outcome.model,
+        Vector3::zeros(),
+    )
+    .zip(resimulate::position_rms(
+        set,
+        &outcome.reconstruction,
+        &ext.model,
+        ext.wind.unwrap_or_else(Vector3::zeros),
+    ))
+    .map(|(base_m, extended_m)| Resimulation { base_m, extended_m });
+    let cf_error_vs_truth = truth_error(dir, &outcome.model, &ext.model, &outcome.samples);
+    let candidates: Vec<CandidateReport> = sel
+        .tried
+        .iter()
+        .map(|t| CandidateReport {
+            effect: t.candidate.name().to_owned(),
+            step: t.step,
+            heldout_force_rms: t.force_rms,
+            heldout_torque_rms: t.torque_rms,
+            gain: t.gain,
+            takes_better: t.takes_better.0,
+            takes: t.takes_better.1,
+            params: t.params.clone(),
+            uncertainty: t.uncertainty.clone(),
+            rejected: t.rejected.clone(),
+        })
+        .collect();
+    let mut report = Report {
+        baseline: HeldOut {
+            heldout_force_rms: sel.baseline.force_rms,
+            heldout_torque_rms: sel.baseline.torque_rms,
+        },
+        candidates,
+        selected: sel.selected.iter().map(|c| c.name().to_owned()).collect(),
+        after: HeldOut {
+            heldout_force_rms: sel.after.force_rms,
+            heldout_torque_rms: sel.after.torque_rms,
+        },
+        resimulation,
+        cf_error_vs_truth,
+        wind: ext.wind.map(|w| [w.x, w.y, w.z]),
+        diagnosis,
+        words: Vec::new(),
+        frames: p.force.frames.len(),
+        takes: p.force.takes.len(),
+    };
+    report.words = words::describe(&report, &ext.params);
+    Ok(Analysis {
+        report,
+        base: outcome.model,
+        extended: ext.model,
+    })
+}
+
+/// C_F error of both models against `dir/truth/coefficients.csv`, over
+/// the directions the frames cover (as `omniad lab accept`: 20 frames
+/// within 15°).
+fn truth_error(
+    dir: &Path,
+    base: &Coefficients<f64>,
+    extended: &Coefficients<f64>,
+    samples: &[crate::reconstruct::forces::Sample],
+) -> Option<TruthError> {
+    use crate::synth::truth::{fitted_directions, force_error, read_coefficients};
+    let path = dir.join("truth").join("coefficients.csv");
+    if !path.exists() {
+        return None;
+    }
+    let truth = read_coefficients(&path).ok()?;
+    let dirs = fitted_directions(samples);
+    let angle = 15f64.to_radians();
+    let (before, directions) = force_error(base, &truth, &dirs, 20, angle);
+    let (after, _) = force_error(extended, &truth, &dirs, 20, angle);
+    Some(TruthError {
+        before,
+        after,
+        directions,
+    })
+}

@@ -1,0 +1,101 @@
+//! The analysis in words: which effect the residual points to and why
+//! (held-out gain, takes, share of the residual its columns explain,
+//! where the residual grows), what was rejected and why.
+
+use crate::residual::candidates::Candidate;
+use crate::residual::Report;
+
+/// Sentences describing `r`; `params` are the kept effects' parameters.
+pub(crate) fn describe(r: &Report, params: &[(Candidate, Vec<f64>)]) -> Vec<String> {
+    let mut out = Vec::new();
+    let b = &r.baseline;
+    out.push(format!(
+        "The base model predicts held-out takes with force RMS {:.4} N and torque RMS {:.5} N m ({} frames, {} takes).",
+        b.heldout_force_rms, b.heldout_torque_rms, r.frames, r.takes
+    ));
+    let explained = |name: &str| {
+        r.diagnosis
+            .explained
+            .iter()
+            .find(|e| e.0 == name)
+            .map_or(0.0, |e| e.1)
+    };
+    if let Some(top) = r
+        .diagnosis
+        .explained
+        .iter()
+        .filter(|e| e.0 != "spin_coupling" && e.0 != "gravity_coupling")
+        .max_by(|a, b| a.1.total_cmp(&b.1))
+    {
+        out.push(format!(
+            "Of the named effects, {} explains most of that residual: {:.0} % of it.",
+            top.0,
+            top.1 * 100.0
+        ));
+    }
+    for p in &r.diagnosis.profiles {
+        if p.trend.abs() > 0.8 {
+            out.push(format!(
+                "The residual {} with {} (bin correlation {:+.2}).",
+                if p.trend > 0.0 { "grows" } else { "shrinks" },
+                p.quantity,
+                p.trend
+            ));
+        }
+    }
+    if r.selected.is_empty() {
+        out.push(
+            "No candidate improves held-out takes significantly and plausibly: the residual points to no effect the model lacks.".into(),
+        );
+    }
+    for (name, (c, v)) in r.selected.iter().zip(params) {
+        let tried = r
+            .candidates
+            .iter()
+            .rfind(|t| &t.effect == name && t.rejected.is_none());
+        if let Some(t) = tried {
+            out.push(format!(
+                "Kept {name} ({}): held-out force RMS {:.4} N with it, weighted error {:.1} % lower, better on {} of {} held-out takes; its columns explain {:.0} % of the base residual; parameters {}.",
+                kind_words(*c),
+                t.heldout_force_rms,
+                t.gain * 100.0,
+                t.takes_better,
+                t.takes,
+                explained(name) * 100.0,
+                fmt(v)
+            ));
+        }
+    }
+    for t in r.candidates.iter().filter(|t| t.step == 0) {
+        if let Some(why) = &t.rejected {
+            if t.gain > 0.05 {
+                out.push(format!("Rejected {}: {why}.", t.effect));
+            }
+        }
+    }
+    out.push(format!(
+        "After: held-out force RMS {:.4} N, torque RMS {:.5} N m.",
+        r.after.heldout_force_rms, r.after.heldout_torque_rms
+    ));
+    out
+}
+
+fn kind_words(c: Candidate) -> &'static str {
+    match c {
+        Candidate::Named(k) => match k {
+            omniad_core::effect::EffectKind::AddedMass => "M_a, kg",
+            omniad_core::effect::EffectKind::RotationalLift => "c",
+            omniad_core::effect::EffectKind::PropellerThrust => "K",
+            omniad_core::effect::EffectKind::Buoyancy => "V_b, m³",
+            omniad_core::effect::EffectKind::LinearDrag => "k",
+        },
+        Candidate::Wind => "w, world m/s",
+        Candidate::SpinCoupling => "K_ijk",
+        Candidate::GravityCoupling => "G_ij",
+    }
+}
+
+fn fmt(v: &[f64]) -> String {
+    let s: Vec<String> = v.iter().take(9).map(|x| format!("{x:.4e}")).collect();
+    format!("[{}]", s.join(", "))
+}
