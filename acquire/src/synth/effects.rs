@@ -14,9 +14,9 @@
 //! | `propeller_thrust` | `K = SCALE · Z Zᵀ` (Z the pole: thrust along the pole from spin about it, force `½ρL⁴ |Ω| K Ω`) |
 
 use crate::error::{Error, Result};
-use crate::synth::added_mass::ellipsoid_added_mass;
 use crate::synth::ObjectSpec;
 use omniad_core::effect::{Effect, EffectKind};
+use omniad_core::reference::ellipsoid::added_mass;
 
 /// One `--effect NAME[=SCALE]` as given.
 #[derive(Clone, Debug, PartialEq)]
@@ -79,8 +79,11 @@ impl EffectSpec {
             EffectKind::RotationalLift => vec![s],
             EffectKind::LinearDrag => vec![s * 3.0 * std::f64::consts::PI],
             EffectKind::AddedMass => {
-                let m = ellipsoid_added_mass(&spec.size, rho) * s;
-                omniad_core::math::six_from_symmetric(&m).to_vec()
+                // The ellipsoid inscribed in the bounding box (Lamb §114,
+                // the core's reference model): diagonal in the body frame.
+                let half = [spec.size.x, spec.size.y, spec.size.z].map(|e| 0.5 * e);
+                let [mx, my, mz] = added_mass(half, rho);
+                vec![s * mx, s * my, s * mz, 0.0, 0.0, 0.0]
             }
             EffectKind::PropellerThrust => {
                 let z = spec.pole.normalize();

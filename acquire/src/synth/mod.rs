@@ -9,7 +9,6 @@
 //! and a steady wind (the air moves at `w`: the physics sees `v - w`, the
 //! markers the body's own motion).
 
-pub mod added_mass;
 pub mod effects;
 pub(crate) mod rng;
 pub mod taira;
