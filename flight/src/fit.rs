@@ -1,6 +1,8 @@
 //! Least squares over cycles: per-cycle normal equations of the design
 //! (the terms' columns), a penalised solve, leave-one-cycle-out scores and
-//! jackknife uncertainties.
+//! jackknife uncertainties — on the acquisition's engine
+//! (`omniad_acquire::fit::{normals, select}`): a pumping cycle is held out
+//! as a take is.
 //!
 //! Why per cycle: samples at 10 Hz within a cycle are strongly correlated,
 //! so held-out scores and uncertainties must leave out whole cycles (a
@@ -10,6 +12,8 @@
 use crate::sample::Sample;
 use crate::terms::{columns, roughness, Setup, Term};
 use nalgebra::{DMatrix, DVector, Vector3};
+use omniad_acquire::fit::normals::{solve, total, Normals};
+use omniad_acquire::fit::select::per_fold;
 
 /// A model design: the setup and its terms, base first.
 #[derive(Clone, Debug, PartialEq)]
@@ -71,65 +75,41 @@ impl Design {
     }
 }
 
-/// Normal equations of some samples: `XᵀX`, `Xᵀy`, `yᵀy`, count.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Normals {
-    xtx: DMatrix<f64>,
-    xty: DVector<f64>,
-    yty: f64,
-    /// Samples summed.
-    pub samples: usize,
+/// The normal equations of `samples` under `design` (`AᵀA`, `Aᵀb`, `bᵀb`
+/// of the force rows, unweighted) — the acquisition's per-take type, so
+/// that one engine holds cycles out as it holds takes out.
+fn normals_of(design: &Design, samples: &[Sample]) -> Normals {
+    let w = design.width();
+    let n = samples.len();
+    let mut x = DMatrix::zeros(3 * n, w);
+    let mut y = DVector::zeros(3 * n);
+    for (i, s) in samples.iter().enumerate() {
+        for (j, col) in design.row_block(s).iter().enumerate() {
+            for c in 0..3 {
+                x[(3 * i + c, j)] = col[c];
+            }
+        }
+        for c in 0..3 {
+            y[3 * i + c] = s.aero_force[c];
+        }
+    }
+    Normals {
+        ata: x.tr_mul(&x),
+        atb: x.tr_mul(&y),
+        btb: y.dot(&y),
+    }
 }
 
-impl Normals {
-    fn zeros(w: usize) -> Self {
-        Self {
-            xtx: DMatrix::zeros(w, w),
-            xty: DVector::zeros(w),
-            yty: 0.0,
-            samples: 0,
-        }
-    }
+/// Sum of squared force errors of the rows of `n` under `theta`, N².
+fn sse(n: &Normals, theta: &DVector<f64>) -> f64 {
+    (n.btb - 2.0 * theta.dot(&n.atb) + theta.dot(&(&n.ata * theta))).max(0.0)
+}
 
-    /// The normal equations of `samples` under `design`.
-    pub fn of(design: &Design, samples: &[Sample]) -> Self {
-        let w = design.width();
-        let n = samples.len();
-        let mut x = DMatrix::zeros(3 * n, w);
-        let mut y = DVector::zeros(3 * n);
-        for (i, s) in samples.iter().enumerate() {
-            for (j, col) in design.row_block(s).iter().enumerate() {
-                for c in 0..3 {
-                    x[(3 * i + c, j)] = col[c];
-                }
-            }
-            for c in 0..3 {
-                y[3 * i + c] = s.aero_force[c];
-            }
-        }
-        Self {
-            xtx: x.tr_mul(&x),
-            xty: x.tr_mul(&y),
-            yty: y.dot(&y),
-            samples: n,
-        }
-    }
-
-    fn add(&mut self, o: &Self, sign: f64) {
-        self.xtx += &o.xtx * sign;
-        self.xty += &o.xty * sign;
-        self.yty += o.yty * sign;
-        self.samples = if sign > 0.0 {
-            self.samples + o.samples
-        } else {
-            self.samples.saturating_sub(o.samples)
-        };
-    }
-
-    /// Sum of squared force errors of these samples under `theta`, N².
-    pub fn sse(&self, theta: &DVector<f64>) -> f64 {
-        (self.yty - 2.0 * theta.dot(&self.xty) + theta.dot(&(&self.xtx * theta))).max(0.0)
-    }
+/// One training cycle: its number, normal equations and sample count.
+#[derive(Clone, Debug)]
+struct CycleNormals {
+    normals: Normals,
+    samples: usize,
 }
 
 /// A design with its per-cycle normal equations (training cycles only).
@@ -137,89 +117,103 @@ impl Normals {
 pub struct Problem {
     /// The design.
     pub design: Design,
-    /// `(cycle, normals)` in cycle order.
-    pub cycles: Vec<(u32, Normals)>,
+    cycles: Vec<CycleNormals>,
     total: Normals,
+    /// The penalty's scale: the mean diagonal of the whole `AᵀA`, so that
+    /// every fold is smoothed alike (as the acquisition's fits do).
+    scale: f64,
 }
 
-/// Smoothness weights tried, relative to the mean diagonal of `XᵀX`.
+/// Smoothness weights tried, relative to the mean diagonal of `AᵀA`.
 pub const SMOOTHING_GRID: [f64; 6] = [1e-7, 1e-6, 1e-5, 1e-4, 1e-3, 1e-2];
 
 impl Problem {
     /// Builds the per-cycle normal equations of `cycles` (each a slice of
     /// one cycle's samples).
     pub fn new(design: Design, cycles: &[(u32, Vec<Sample>)]) -> Self {
-        let per: Vec<(u32, Normals)> = cycles
+        let per: Vec<CycleNormals> = cycles
             .iter()
-            .map(|(n, s)| (*n, Normals::of(&design, s)))
+            .map(|(_, s)| CycleNormals {
+                normals: normals_of(&design, s),
+                samples: s.len(),
+            })
             .collect();
-        let mut total = Normals::zeros(design.width());
-        for (_, n) in &per {
-            total.add(n, 1.0);
-        }
+        let all: Vec<Normals> = per.iter().map(|c| c.normals.clone()).collect();
+        let total = total(&all, design.width());
+        let scale = (total.ata.trace() / design.width().max(1) as f64).max(f64::MIN_POSITIVE);
         Self {
             design,
             cycles: per,
             total,
+            scale,
         }
     }
 
-    /// The penalised solve of `normals` with smoothing weight `lambda`.
-    fn solve(&self, normals: &Normals, lambda: f64) -> Option<DVector<f64>> {
-        let w = self.design.width();
-        let scale = (normals.xtx.trace() / w.max(1) as f64).max(f64::MIN_POSITIVE);
-        let mut a = normals.xtx.clone();
+    /// The penalised solve of `ata c = atb` with smoothing weight `lambda`;
+    /// `None` when the result is not finite.
+    fn solve(&self, ata: &DMatrix<f64>, atb: &DVector<f64>, lambda: f64) -> Option<DVector<f64>> {
+        let mut a = ata.clone();
         for (j, (r, sh)) in self.design.penalty_shape().into_iter().enumerate() {
             let p = if sh { lambda * r + 1e-9 } else { 1e-9 };
-            a[(j, j)] += p * scale;
+            a[(j, j)] += p * self.scale;
         }
-        a.cholesky().map(|c| c.solve(&normals.xty))
+        let x = solve(&a, atb);
+        x.iter().all(|v| v.is_finite()).then_some(x)
     }
 
     /// The fit on all training cycles.
     pub fn fit(&self, lambda: f64) -> Option<DVector<f64>> {
-        self.solve(&self.total, lambda)
+        self.solve(&self.total.ata, &self.total.atb, lambda)
     }
 
-    /// Leave-one-cycle-out: the fits without each cycle.
-    fn held_out_fits(&self, lambda: f64) -> Vec<Option<DVector<f64>>> {
-        self.cycles
-            .iter()
-            .map(|(_, n)| {
-                let mut rest = self.total.clone();
-                rest.add(n, -1.0);
-                self.solve(&rest, lambda)
-            })
-            .collect()
+    /// The fit without cycle `c`.
+    fn fit_without(&self, c: usize, lambda: f64) -> Option<DVector<f64>> {
+        let held = &self.cycles.get(c)?.normals;
+        self.solve(
+            &(&self.total.ata - &held.ata),
+            &(&self.total.atb - &held.atb),
+            lambda,
+        )
     }
 
-    /// Leave-one-cycle-out mean squared force error per sample, N².
+    /// Leave-one-cycle-out: each training cycle's squared force error (N²)
+    /// and sample count under the fit without it — the acquisition's fold
+    /// engine ([`per_fold`]), so `None` with fewer than its minimum of
+    /// training cycles or when a fold cannot be solved.
+    pub fn held_out(&self, lambda: f64) -> Option<Vec<(f64, usize)>> {
+        per_fold(self.cycles.len(), |c| {
+            let theta = self.fit_without(c, lambda)?;
+            let cycle = self.cycles.get(c)?;
+            Some((sse(&cycle.normals, &theta), cycle.samples))
+        })?
+        .into_iter()
+        .collect()
+    }
+
+    /// Leave-one-cycle-out mean squared force error per sample, N²
+    /// (infinite when it cannot be computed).
     pub fn held_out_mse(&self, lambda: f64) -> f64 {
-        let fits = self.held_out_fits(lambda);
-        let (mut sse, mut n) = (0.0, 0usize);
-        for ((_, normals), fit) in self.cycles.iter().zip(&fits) {
-            match fit {
-                Some(theta) => {
-                    sse += normals.sse(theta);
-                    n += normals.samples;
-                }
-                None => return f64::INFINITY,
-            }
-        }
+        let Some(folds) = self.held_out(lambda) else {
+            return f64::INFINITY;
+        };
+        let (e, n) = folds
+            .iter()
+            .fold((0.0, 0), |(e, n), (fe, fn_)| (e + fe, n + fn_));
         if n == 0 {
             f64::INFINITY
         } else {
-            sse / n as f64
+            e / n as f64
         }
     }
 
     /// The smoothing weight of [`SMOOTHING_GRID`] with the lowest held-out
-    /// error, and that error.
+    /// error, and that error; the middle of the grid, with an infinite
+    /// error, when there are too few training cycles to hold one out.
     pub fn choose_smoothing(&self) -> (f64, f64) {
         SMOOTHING_GRID
             .iter()
             .map(|&l| (l, self.held_out_mse(l)))
-            .fold((SMOOTHING_GRID[0], f64::INFINITY), |best, c| {
+            .fold((SMOOTHING_GRID[3], f64::INFINITY), |best, c| {
                 if c.1 < best.1 {
                     c
                 } else {
@@ -230,22 +224,15 @@ impl Problem {
 
     /// Jackknife standard errors over cycles of the parameters.
     pub fn jackknife(&self, lambda: f64) -> Option<DVector<f64>> {
-        let fits: Option<Vec<DVector<f64>>> = self.held_out_fits(lambda).into_iter().collect();
-        let fits = fits?;
+        let fits: Vec<DVector<f64>> = per_fold(self.cycles.len(), |c| self.fit_without(c, lambda))?
+            .into_iter()
+            .collect::<Option<_>>()?;
         let g = fits.len() as f64;
-        if g < 2.0 {
-            return None;
-        }
-        let mean = fits
-            .iter()
-            .fold(DVector::zeros(self.design.width()), |a, f| a + f)
-            / g;
-        let var = fits
-            .iter()
-            .fold(DVector::zeros(self.design.width()), |a, f| {
-                a + (f - &mean).component_mul(&(f - &mean))
-            })
-            * ((g - 1.0) / g);
+        let w = self.design.width();
+        let mean = fits.iter().fold(DVector::zeros(w), |a, f| a + f) / g;
+        let var = fits.iter().fold(DVector::zeros(w), |a, f| {
+            a + (f - &mean).component_mul(&(f - &mean))
+        }) * ((g - 1.0) / g);
         Some(var.map(f64::sqrt))
     }
 }

@@ -1,8 +1,10 @@
 //! Greedy forward selection of effects by leave-one-cycle-out error on the
 //! training cycles: at each step every remaining candidate is added to the
-//! current design in turn; the best is kept when it lowers the held-out
-//! mean squared force error by at least [`MIN_GAIN`] and its parameters
-//! are physically plausible. The test cycles are not seen here.
+//! current design in turn; the best is kept when it passes the
+//! acquisition's rule (a held-out gain of at least [`MIN_GAIN`], better on
+//! significantly many cycles by the sign test — `omniad residual`'s rule)
+//! and its parameters are physically plausible. The test cycles are not
+//! seen here.
 
 use crate::fit::{Design, Problem};
 use crate::kite::KiteProperties;
@@ -10,9 +12,7 @@ use crate::sample::Sample;
 use crate::terms::Term;
 use serde::Serialize;
 
-/// Smallest relative reduction of the held-out mean squared error for
-/// which an effect is kept (2 %).
-pub const MIN_GAIN: f64 = 0.02;
+pub use omniad_acquire::residual::select::{sign_threshold, MIN_GAIN};
 
 /// One candidate's score at the step it was tried.
 #[derive(Clone, Debug, PartialEq, Serialize)]
@@ -76,6 +76,7 @@ pub fn select(
     let mut design = base;
     let mut remaining: Vec<Term> = candidates.to_vec();
     let mut tried = Vec::new();
+    let mut current = problem;
     for step in 0.. {
         let mut scored = Vec::new();
         for t in &remaining {
@@ -85,7 +86,9 @@ pub fn select(
             let p = Problem::new(d, train);
             let (l, mse) = p.choose_smoothing();
             let param = scalar_param(&p, l);
-            let rejected = param.and_then(|v| plausible(t, v, kite).err());
+            let rejected = param
+                .and_then(|v| plausible(t, v, kite).err())
+                .or_else(|| significance(&current, smoothing, &p, l, best, mse).err());
             scored.push((*t, l, mse, param, rejected));
         }
         for (t, _, mse, param, rejected) in &scored {
@@ -99,13 +102,14 @@ pub fn select(
         }
         let pick = scored
             .iter()
-            .filter(|c| c.4.is_none() && c.2 < best * (1.0 - MIN_GAIN))
+            .filter(|c| c.4.is_none())
             .min_by(|a, b| a.2.total_cmp(&b.2));
         let Some((t, l, mse, ..)) = pick.cloned() else {
             break;
         };
         design.terms.push(t);
         remaining.retain(|r| r.name() != t.name());
+        current = Problem::new(design.clone(), train);
         smoothing = l;
         best = mse;
         if remaining.is_empty() {
@@ -118,6 +122,42 @@ pub fn select(
         tried,
         base_cv_rms,
     }
+}
+
+/// The acquisition's rule for keeping an effect (`omniad residual`'s, one
+/// rule for recordings and flights): the held-out mean squared error falls
+/// by at least [`MIN_GAIN`] and the held-out error is lower on
+/// significantly many cycles (the one-sided sign test of
+/// [`sign_threshold`]): a gain made by a few cycles is not a property of
+/// the air.
+fn significance(
+    before: &Problem,
+    before_lambda: f64,
+    after: &Problem,
+    after_lambda: f64,
+    before_mse: f64,
+    after_mse: f64,
+) -> Result<(), String> {
+    let gain = 1.0 - after_mse / before_mse;
+    if gain.is_nan() || gain < MIN_GAIN {
+        return Err(format!(
+            "held-out gain {:.1} % below {:.0} %",
+            100.0 * gain,
+            100.0 * MIN_GAIN
+        ));
+    }
+    let (Some(b), Some(a)) = (before.held_out(before_lambda), after.held_out(after_lambda)) else {
+        return Err("too few training cycles to hold one out".into());
+    };
+    let better = b.iter().zip(&a).filter(|(x, y)| y.0 < x.0).count();
+    let need = sign_threshold(b.len());
+    if better < need {
+        return Err(format!(
+            "better on {better} of {} cycles (sign test needs {need})",
+            b.len()
+        ));
+    }
+    Ok(())
 }
 
 /// The last term's single parameter, when it is a scalar effect.

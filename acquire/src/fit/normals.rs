@@ -6,7 +6,7 @@
 use nalgebra::{DMatrix, DVector};
 
 /// Normal equations that add up over takes.
-pub(crate) trait Accumulate {
+pub trait Accumulate {
     /// Empty equations of `dim` unknowns.
     fn zeros(dim: usize) -> Self;
     /// Adds `other`.
@@ -50,7 +50,7 @@ pub(crate) fn per_take<R: Rows>(
 }
 
 /// The sum of per-take normal equations of `dim` unknowns.
-pub(crate) fn total<N: Accumulate>(takes: &[N], dim: usize) -> N {
+pub fn total<N: Accumulate>(takes: &[N], dim: usize) -> N {
     let mut total = N::zeros(dim);
     for t in takes {
         total.add(t);
@@ -85,7 +85,8 @@ impl Accumulate for Normals {
     }
 }
 
-pub(crate) fn solve(ata: &DMatrix<f64>, atb: &DVector<f64>) -> DVector<f64> {
+/// The solution of `ata c = atb` (Cholesky, else LU, else zeros).
+pub fn solve(ata: &DMatrix<f64>, atb: &DVector<f64>) -> DVector<f64> {
     match ata.clone().cholesky() {
         Some(c) => c.solve(atb),
         None => ata

@@ -40,7 +40,7 @@ pub(crate) fn held_out_scores<P: Sync>(
 /// take order, for selections that need each held-out take's error (a
 /// paired test across takes, `crate::residual`) and not only their sum;
 /// `None` with fewer than [`MIN_TAKES`] takes.
-pub(crate) fn per_fold<T: Send>(takes: usize, fold: impl Fn(usize) -> T + Sync) -> Option<Vec<T>> {
+pub fn per_fold<T: Send>(takes: usize, fold: impl Fn(usize) -> T + Sync) -> Option<Vec<T>> {
     if takes < MIN_TAKES {
         return None;
     }
