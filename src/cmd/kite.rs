@@ -15,8 +15,8 @@ pub enum KiteCommand {
     /// Orientation at which the kite balances with the file's attachment
     /// point (zero unbalanced torque), and its stability there.
     Trim(StaticArgs),
-    /// Tethered flight in gusty wind (RK4); outcome flies / unsettled /
-    /// crashes.
+    /// Tethered flight in gusty wind (RK4); outcome flies / crashes, with
+    /// the reason (hit the ground, or unsettled: looping, rolling, low).
     Fly(FlyArgs),
     /// OpenSCAD sockets for every rod joint, a cut list, an SVG drawing.
     Export(ExportArgs),
