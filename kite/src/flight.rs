@@ -143,9 +143,8 @@ fn summarise(
         .fold(f64::INFINITY, f64::min);
     let max_spin = half.iter().map(|s| s.spin).fold(0.0, f64::max);
     let rms_spin = (half.iter().map(|s| s.spin * s.spin).sum::<f64>() / n).sqrt();
-    let roll = |f: fn(f64, f64) -> f64, init: f64| {
-        half.iter().map(|s| s.attitude_deg[0]).fold(init, f)
-    };
+    let roll =
+        |f: fn(f64, f64) -> f64, init: f64| half.iter().map(|s| s.attitude_deg[0]).fold(init, f);
     let roll_amplitude = (roll(f64::max, f64::NEG_INFINITY) - roll(f64::min, f64::INFINITY)) / 2.0;
     let mean_tension = trace.iter().map(|s| s.tension).sum::<f64>() / trace.len().max(1) as f64;
     let max_tension = trace.iter().map(|s| s.tension).fold(0.0, f64::max);
@@ -154,7 +153,9 @@ fn summarise(
         Some(t) => (Outcome::Crashes, format!("hit the ground at {t:.1} s")),
         None if settled => (
             Outcome::Flies,
-            format!("settled: line elevation >= {min_elevation:.0}°, turning <= {max_spin:.1} rad/s"),
+            format!(
+                "settled: line elevation >= {min_elevation:.0}°, turning <= {max_spin:.1} rad/s"
+            ),
         ),
         None => (
             Outcome::Crashes,

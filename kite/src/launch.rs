@@ -14,8 +14,8 @@
 //! attitude on a taut line, as before.
 
 use crate::assemble::Design;
-use crate::settle::settled_equilibrium;
 use crate::flight_step::{Flight, FlightOptions};
+use crate::settle::settled_equilibrium;
 use anyhow::Result;
 
 /// The flight of `design` in the wind of `opts`, released at rest at its

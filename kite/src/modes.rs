@@ -15,9 +15,9 @@
 //! wind) and *roll-yaw* (rotation about the other two).
 
 use crate::equilibrium::Equilibrium;
-use crate::settle::settled_equilibrium;
 use crate::flight_step::{Flight, FlightOptions};
 use crate::linearise::{eigenvector, state_matrix, CVector, StateMatrix};
+use crate::settle::settled_equilibrium;
 use crate::Design;
 use anyhow::Result;
 use nalgebra::{Complex, Matrix3, Vector3};
