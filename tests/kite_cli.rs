@@ -103,7 +103,8 @@ fn trim_fly_and_export_run() {
         .expect("run");
     assert!(out.status.success(), "{}", text(&out.stderr));
     let v: serde_json::Value = serde_json::from_slice(&out.stdout).expect("json");
-    assert!(v["outcome"].is_string());
+    assert!(v["outcome"] == "flies" || v["outcome"] == "crashes");
+    assert!(v["reason"].is_string());
     let trace = std::fs::read_to_string(&csv).expect("csv");
     assert!(trace.starts_with("t,x,y,z,") && trace.lines().count() > 90);
 
@@ -230,6 +231,11 @@ fn verdict_agrees_with_the_flight_for_every_bundled_design() {
             assert!(out.status.success(), "{}", text(&out.stderr));
             let r: serde_json::Value = serde_json::from_slice(&out.stdout).expect("json");
             let outcome = r["outcome"].as_str().expect("outcome").to_string();
+            assert!(
+                outcome == "flies" || outcome == "crashes",
+                "{name} seed {seed}: outcome {outcome}"
+            );
+            assert!(r["reason"].is_string(), "{name} seed {seed}: no reason");
             for k in [
                 "mean_elevation_deg",
                 "min_elevation_deg",
@@ -246,4 +252,32 @@ fn verdict_agrees_with_the_flight_for_every_bundled_design() {
         table += "\n";
     }
     assert!(bad.is_empty(), "{bad:?}\n{table}");
+}
+
+/// Issue 17: `kite optimise` reports before/after and each change, and
+/// writes a kite file that loads; the search never ends worse than the
+/// file.
+#[test]
+fn optimise_writes_a_loadable_kite_and_reports_changes() {
+    let dir = std::env::temp_dir().join(format!("omniad-kite-cli-opt-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("tmp");
+    let out_file = dir.join("opt.toml");
+    let out = omniad()
+        .args(["kite", "optimise", "--json", "--evaluations", "12", "-o"])
+        .arg(&out_file)
+        .arg(kite("box-three-cell"))
+        .output()
+        .expect("run");
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).expect("json");
+    assert!(v["changes"].is_array());
+    let (b, a) = (&v["before"]["objective"], &v["after"]["objective"]);
+    assert!(a.as_f64() >= b.as_f64(), "{b} -> {a}");
+    let out = omniad()
+        .args(["kite", "check", "--json"])
+        .arg(&out_file)
+        .output()
+        .expect("run");
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let _ = std::fs::remove_dir_all(&dir);
 }

@@ -11,7 +11,7 @@
 //! [`crate::linearise`] (the lower-left block of the state matrix), started
 //! from the flight's initial state.
 
-use crate::flight::Flight;
+use crate::flight_step::Flight;
 use crate::linearise::{perturb, state_matrix, tangent_rate, Tangent};
 use nalgebra::{SMatrix, SVector, Vector3};
 use omniad_core::rigid_body::State;
@@ -140,7 +140,7 @@ fn finish(flight: &Flight, s: State<f64>, start: &State<f64>) -> Option<Equilibr
     let tension = line.force(&s).norm();
     let at = s.position + s.orientation.transform_vector(&line.attachment) - line.anchor;
     let horizontal = (at.x * at.x + at.y * at.y).sqrt();
-    if !(tension > 0.0) || s.position.z < crate::flight::GROUND_CLEARANCE {
+    if !(tension > 0.0) || s.position.z < crate::flight_step::GROUND_CLEARANCE {
         return None;
     }
     Some(Equilibrium {

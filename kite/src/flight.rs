@@ -8,12 +8,15 @@
 //! * Ground: `z = 0`; the kite crashes when its centre of mass comes
 //!   within [`GROUND_CLEARANCE`] of it.
 //!
-//! Outcome: **flies** when it stays aloft for the whole run and settles
-//! over the second half (line elevation above [`MIN_ELEVATION_DEG`], `|Ω|`
-//! below [`MAX_SPIN`]: turning with the gusts, not looping); **crashes**
-//! when it hits the ground (or the state diverges); **unsettled** when
-//! aloft but looping, rolling or lying low. Statistics are over the second
-//! half of the time actually flown (up to the crash, if any).
+//! Outcome (two-valued, as issue 17 specifies): **flies** when it stays
+//! aloft for the whole run and settles over the second half (line
+//! elevation above [`MIN_ELEVATION_DEG`], `|Ω|` below [`MAX_SPIN`]:
+//! turning with the gusts, not looping); else **crashes**, and
+//! [`FlightReport::reason`] says why: it hit the ground (or the state
+//! diverged) at a time, or it stayed aloft but did not settle (looping,
+//! rolling or lying low — a kite no flyer would call flying). Statistics
+//! are over the second half of the time actually flown (up to the crash,
+//! if any).
 //!
 //! Assumptions and their sources:
 //! * Tether: straight, massless, no line drag, no sag; elastic with
@@ -28,9 +31,11 @@
 //!   no added mass.
 //! * Gusts: [`crate::wind`], a Dryden-shaped spectrum (MIL-F-8785C form)
 //!   with Λ = 30 m, spatially uniform over the kite (it is ≪ Λ).
-//! * Start: the file's attitude, at rest on a taut line along the static
-//!   string direction (not at the equilibrium, so a kite far from its trim
-//!   swings to it first).
+//! * Start: at rest at the equilibrium of the flight model in the mean
+//!   wind ([`crate::launch`]: as a flyer releases a kite that has settled on
+//!   its line), the state the verdict analyses; a kite without one starts
+//!   at the file's attitude on a taut line along the static string
+//!   direction.
 
 use crate::assemble::Design;
 use anyhow::Result;
@@ -47,9 +52,8 @@ pub use crate::tether::{Line, Tether};
 pub enum Outcome {
     /// Aloft throughout with bounded motion.
     Flies,
-    /// Aloft but looping, spinning or lying low.
-    Unsettled,
-    /// Hit the ground or diverged.
+    /// Hit the ground or diverged, or aloft but looping, spinning or lying
+    /// low ([`FlightReport::reason`] says which).
     Crashes,
 }
 
@@ -60,6 +64,9 @@ pub struct FlightReport {
     pub name: String,
     /// Outcome.
     pub outcome: Outcome,
+    /// Why, in words: `"settled: ..."`, `"hit the ground at 12.3 s"`,
+    /// `"unsettled: turning at 3.1 rad/s rms, rolling ±45°"`.
+    pub reason: String,
     /// Time of the crash, s.
     pub crash_time: Option<f64>,
     /// Simulated time, s.
@@ -77,6 +84,10 @@ pub struct FlightReport {
     pub min_elevation_deg: f64,
     /// Largest |Ω| over the same span, rad/s.
     pub max_spin: f64,
+    /// RMS |Ω| over the same span, rad/s.
+    pub rms_spin: f64,
+    /// Half the roll range over the same span, degrees.
+    pub roll_amplitude_deg: f64,
     /// Mean and largest line tension, N.
     pub mean_tension: f64,
     /// Largest line tension, N.
@@ -86,10 +97,11 @@ pub struct FlightReport {
     pub trace: Vec<Sample>,
 }
 
-/// Simulates a flight from the file's orientation and attachment point:
-/// [`Flight`] stepped for `opts.seconds`, sampled every `opts.sample`.
+/// Simulates a flight with the file's attachment point, launched at the
+/// equilibrium ([`crate::launch`]): [`Flight`] stepped for `opts.seconds`,
+/// sampled every `opts.sample`.
 pub fn fly(design: &Design, opts: &FlightOptions) -> Result<FlightReport> {
-    let mut flight = Flight::new(design.clone(), opts)?;
+    let mut flight = crate::launch::launch(design, opts)?;
     let steps = (opts.seconds / opts.dt).ceil() as usize;
     let every = ((opts.sample / opts.dt).round() as usize).max(1);
     let mut trace = Vec::new();
@@ -130,18 +142,30 @@ fn summarise(
         .map(|s| s.elevation_deg)
         .fold(f64::INFINITY, f64::min);
     let max_spin = half.iter().map(|s| s.spin).fold(0.0, f64::max);
+    let rms_spin = (half.iter().map(|s| s.spin * s.spin).sum::<f64>() / n).sqrt();
+    let roll =
+        |f: fn(f64, f64) -> f64, init: f64| half.iter().map(|s| s.attitude_deg[0]).fold(init, f);
+    let roll_amplitude = (roll(f64::max, f64::NEG_INFINITY) - roll(f64::min, f64::INFINITY)) / 2.0;
     let mean_tension = trace.iter().map(|s| s.tension).sum::<f64>() / trace.len().max(1) as f64;
     let max_tension = trace.iter().map(|s| s.tension).fold(0.0, f64::max);
-    let outcome = if crash_time.is_some() {
-        Outcome::Crashes
-    } else if min_elevation > MIN_ELEVATION_DEG && max_spin < MAX_SPIN {
-        Outcome::Flies
-    } else {
-        Outcome::Unsettled
+    let settled = min_elevation > MIN_ELEVATION_DEG && max_spin < MAX_SPIN;
+    let (outcome, reason) = match crash_time {
+        Some(t) => (Outcome::Crashes, format!("hit the ground at {t:.1} s")),
+        None if settled => (
+            Outcome::Flies,
+            format!(
+                "settled: line elevation >= {min_elevation:.0}°, turning <= {max_spin:.1} rad/s"
+            ),
+        ),
+        None => (
+            Outcome::Crashes,
+            unsettled_reason(min_elevation, rms_spin, max_spin, roll_amplitude),
+        ),
     };
     FlightReport {
         name: design.spec.name.clone(),
         outcome,
+        reason,
         crash_time,
         seconds: trace.last().map_or(0.0, |s| s.t),
         gust: opts.gust,
@@ -150,10 +174,29 @@ fn summarise(
         mean_elevation_deg: mean_elevation,
         min_elevation_deg: min_elevation,
         max_spin,
+        rms_spin,
+        roll_amplitude_deg: roll_amplitude,
         mean_tension,
         max_tension,
         trace,
     }
+}
+
+/// Why an aloft kite did not count as flying: what it did over the second
+/// half (turning, rolling, lying low).
+fn unsettled_reason(min_elevation: f64, rms_spin: f64, max_spin: f64, roll: f64) -> String {
+    let mut parts = Vec::new();
+    if !(max_spin < MAX_SPIN) {
+        parts.push(format!(
+            "turning at {rms_spin:.1} rad/s rms (peak {max_spin:.1}), rolling ±{roll:.0}°"
+        ));
+    }
+    if !(min_elevation > MIN_ELEVATION_DEG) {
+        parts.push(format!(
+            "line down to {min_elevation:.0}° elevation (below {MIN_ELEVATION_DEG:.0}°)"
+        ));
+    }
+    format!("unsettled: {}", parts.join(", "))
 }
 
 /// The trace as CSV text.
@@ -175,9 +218,9 @@ pub fn trace_csv(report: &FlightReport) -> String {
 
 /// Human-readable summary.
 pub fn render(r: &FlightReport) -> String {
-    let outcome = match r.crash_time {
-        Some(t) => format!("CRASHES at {t:.2} s"),
-        None => format!("{:?}", r.outcome).to_lowercase(),
+    let outcome = match r.outcome {
+        Outcome::Flies => format!("flies ({})", r.reason),
+        Outcome::Crashes => format!("CRASHES ({})", r.reason),
     };
     format!(
         "kite {:?}: {outcome} ({:.1} s simulated, gust {} m/s, seed {})\n  second half: mean line elevation {:.1} deg, lowest {:.1} deg, largest |Omega| {:.2} rad/s\n  lowest height {:.2} m; tension mean {:.2} N, max {:.2} N",

@@ -164,6 +164,20 @@ impl Flight {
         })
     }
 
+    /// Restarts the flight at `state` (time unchanged): the launch
+    /// ([`crate::launch`]) releases the kite at its equilibrium.
+    pub(crate) fn release_at(&mut self, state: State<f64>) {
+        self.state = state;
+    }
+
+    /// The same flight stepped at `dt` (s) from now on.
+    pub(crate) fn with_step(mut self, dt: f64) -> Self {
+        let t = self.time();
+        self.dt = dt;
+        self.steps = (t / dt).round() as u64;
+        self
+    }
+
     /// The rigid body (mass, inertia).
     pub fn body(&self) -> &RigidBody<f64> {
         &self.body

@@ -9,6 +9,9 @@
 //! * [`wind`], [`flight`]: gusty wind and the tethered flight simulation
 //!   ([`flight::Flight`] steps it; `kite fly` and the TUI both run it).
 //! * [`export`]: OpenSCAD sockets, cut list, SVG three-view drawing.
+//! * [`optimise`]: the trim search for the largest stability margin
+//!   (`kite optimise`), keeping the frame in one piece ([`connect`]).
+//! * [`launch`]: flights start at the equilibrium the kite settles to.
 
 // `!(x > 0.0)` deliberately rejects NaN as well as non-positive values.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
@@ -16,6 +19,7 @@
 pub mod assemble;
 mod attachment;
 pub mod check;
+pub mod connect;
 pub mod equilibrium;
 pub mod export;
 pub mod flight;
@@ -23,10 +27,13 @@ mod flight_step;
 pub mod generate;
 pub mod geometry;
 pub mod joints;
+pub mod launch;
 pub mod library;
 pub mod linearise;
 pub mod mass;
 pub mod modes;
+pub mod optimise;
+mod settle;
 pub mod spec;
 mod tether;
 pub mod trimming;

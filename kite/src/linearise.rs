@@ -12,8 +12,8 @@
 //! attitude kinematics `δθ̇ = Ω` hold to first order, so the second row
 //! block is read from the model's quaternion rate as `2 vec(q̄ q̇)`.
 
-use crate::flight::Flight;
-use nalgebra::{Quaternion, SMatrix, SVector, UnitQuaternion};
+use crate::flight_step::Flight;
+use nalgebra::{Complex, Quaternion, SMatrix, SVector, UnitQuaternion};
 use omniad_core::rigid_body::State;
 
 /// Number of tangent coordinates.
@@ -22,6 +22,8 @@ pub const STATES: usize = 12;
 pub type StateMatrix = SMatrix<f64, STATES, STATES>;
 /// A tangent vector.
 pub type Tangent = SVector<f64, STATES>;
+/// A complex tangent vector (an eigenvector).
+pub type CVector = SVector<Complex<f64>, STATES>;
 
 /// Central-difference step for every coordinate (m, rad, m/s, rad/s):
 /// about the cube root of machine epsilon times the unit scale, which
@@ -70,6 +72,24 @@ pub fn state_matrix_with_step(flight: &Flight, base: &State<f64>, h: f64) -> Sta
 /// `A` at `base` with the checked step [`STEP`].
 pub fn state_matrix(flight: &Flight, base: &State<f64>) -> StateMatrix {
     state_matrix_with_step(flight, base, STEP)
+}
+
+/// The eigenvector of `a` for `l` by inverse iteration (complex LU).
+pub fn eigenvector(a: &StateMatrix, l: Complex<f64>) -> CVector {
+    let shift = l + Complex::new(1e-9, 1e-9) * l.norm().max(1e-6);
+    let m: SMatrix<Complex<f64>, STATES, STATES> =
+        a.map(|x| Complex::new(x, 0.0)) - SMatrix::identity() * shift;
+    let lu = m.lu();
+    let mut v = CVector::from_element(Complex::new(1.0, 0.0));
+    for _ in 0..3 {
+        if let Some(w) = lu.solve(&v) {
+            let n = w.norm();
+            if n > 0.0 && n.is_finite() {
+                v = w / Complex::new(n, 0.0);
+            }
+        }
+    }
+    v
 }
 
 #[cfg(test)]

@@ -14,15 +14,14 @@
 //! horizontally), *pitch* (rotation about the horizontal axis across the
 //! wind) and *roll-yaw* (rotation about the other two).
 
-use crate::equilibrium::{equilibrium, Equilibrium};
-use crate::flight::{Flight, FlightOptions};
-use crate::linearise::{state_matrix, StateMatrix, STATES};
+use crate::equilibrium::Equilibrium;
+use crate::flight_step::{Flight, FlightOptions};
+use crate::linearise::{eigenvector, state_matrix, CVector, StateMatrix};
+use crate::settle::settled_equilibrium;
 use crate::Design;
 use anyhow::Result;
-use nalgebra::{Complex, Matrix3, SMatrix, SVector, Vector3};
+use nalgebra::{Complex, Matrix3, Vector3};
 use serde::Serialize;
-
-type CVector = SVector<Complex<f64>, STATES>;
 
 /// Names of the motions, in the order of [`Mode::shares`].
 pub const MOTIONS: [&str; 5] = [
@@ -104,7 +103,7 @@ pub fn steady_flight(design: &Design, wind: Option<f64>) -> Result<Flight> {
 /// The equilibrium and the modes about it.
 pub fn analyse(design: &Design, wind: Option<f64>) -> Result<(Option<Equilibrium>, ModesReport)> {
     let flight = steady_flight(design, wind)?;
-    let Some(eq) = equilibrium(&flight) else {
+    let Some(eq) = settled_equilibrium(&flight) else {
         return Ok((None, ModesReport::none()));
     };
     let a = state_matrix(&flight, &eq.state);
@@ -169,24 +168,6 @@ fn line_axes(flight: &Flight, eq: &Equilibrium) -> Matrix3<f64> {
     };
     let vertical = along.cross(&lateral);
     Matrix3::from_columns(&[along, vertical, lateral])
-}
-
-/// The eigenvector of `a` for `l` by inverse iteration (complex LU).
-fn eigenvector(a: &StateMatrix, l: Complex<f64>) -> CVector {
-    let shift = l + Complex::new(1e-9, 1e-9) * l.norm().max(1e-6);
-    let m: SMatrix<Complex<f64>, STATES, STATES> =
-        a.map(|x| Complex::new(x, 0.0)) - SMatrix::identity() * shift;
-    let lu = m.lu();
-    let mut v = CVector::from_element(Complex::new(1.0, 0.0));
-    for _ in 0..3 {
-        if let Some(w) = lu.solve(&v) {
-            let n = w.norm();
-            if n > 0.0 && n.is_finite() {
-                v = w / Complex::new(n, 0.0);
-            }
-        }
-    }
-    v
 }
 
 /// Kinetic-energy shares of the motions of [`MOTIONS`].

@@ -1,7 +1,7 @@
 //! Issue acceptance: the classic two-cell box kite is statically stable on
 //! all three axes (the paper's test) with the string pulling down at 5 m/s,
 //! but (issue 17) its roll-yaw mode grows: the verdict says so and in gusts
-//! it rolls and loops (`unsettled`); the three-cell kite passes every test
+//! it rolls and loops (`crashes`, reason `unsettled: ...`); the three-cell kite passes every test
 //! and flies 60 s in gusty wind; turned with its closed faces into the wind
 //! the classic is reported unflyable/unstable and crashes.
 
@@ -29,7 +29,8 @@ fn classic_box_kite_passes_the_static_test_but_flutters() {
         ..FlightOptions::default()
     };
     let f = flight::fly(&design, &opts).unwrap();
-    assert_eq!(f.outcome, Outcome::Unsettled, "{}", flight::render(&f));
+    assert_eq!(f.outcome, Outcome::Crashes, "{}", flight::render(&f));
+    assert!(f.crash_time.is_none() && f.reason.starts_with("unsettled: turning"));
 }
 
 #[test]

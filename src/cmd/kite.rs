@@ -15,11 +15,14 @@ pub enum KiteCommand {
     /// Orientation at which the kite balances with the file's attachment
     /// point (zero unbalanced torque), and its stability there.
     Trim(StaticArgs),
-    /// Tethered flight in gusty wind (RK4); outcome flies / unsettled /
-    /// crashes.
+    /// Tethered flight in gusty wind (RK4); outcome flies / crashes, with
+    /// the reason (hit the ground, or unsettled: looping, rolling, low).
     Fly(FlyArgs),
     /// OpenSCAD sockets for every rod joint, a cut list, an SVG drawing.
     Export(ExportArgs),
+    /// Searches pitch, string offset and primitive yaws for the largest
+    /// stability margin; writes the best design.
+    Optimise(OptimiseArgs),
 }
 
 /// Options shared by every kite command.
@@ -82,6 +85,22 @@ pub struct ExportArgs {
     pub output: PathBuf,
 }
 
+/// `omniad kite optimise`.
+#[derive(Args, Debug)]
+pub struct OptimiseArgs {
+    #[command(flatten)]
+    pub common: Common,
+    /// Output kite file (written atomically).
+    #[arg(short = 'o', long = "output")]
+    pub output: PathBuf,
+    /// Largest number of designs checked.
+    #[arg(long, default_value_t = 200)]
+    pub evaluations: usize,
+    /// Print JSON.
+    #[arg(long)]
+    pub json: bool,
+}
+
 fn load(common: &Common) -> Result<Design> {
     let dir = common
         .primitives
@@ -117,6 +136,7 @@ pub fn run(command: &KiteCommand) -> Result<()> {
             Ok(())
         }
         KiteCommand::Fly(a) => fly(a),
+        KiteCommand::Optimise(a) => optimise(a),
         KiteCommand::Export(a) => {
             let design = load(&a.common)?;
             for path in omniad_kite::export::export(&design, &a.output)? {
@@ -190,6 +210,37 @@ fn fly(a: &FlyArgs) -> Result<()> {
         println!("{}", serde_json::to_string_pretty(&report)?);
     } else {
         println!("{}", omniad_kite::flight::render(&report));
+    }
+    Ok(())
+}
+
+/// `kite optimise`: the search runs in the kite crate; each trial is
+/// assembled with the file's library and directory (object files stay
+/// relative to the input file).
+fn optimise(a: &OptimiseArgs) -> Result<()> {
+    let dir = a
+        .common
+        .primitives
+        .clone()
+        .unwrap_or_else(omniad_kite::library::default_dir);
+    let library = Library::load(&dir)?;
+    let design = Design::load(&a.common.file, &library)?;
+    let base = a
+        .common
+        .file
+        .parent()
+        .map_or_else(|| PathBuf::from("."), Path::to_path_buf);
+    let assemble = |spec| Design::assemble(spec, &base, &library);
+    let opts = omniad_kite::optimise::OptimiseOptions {
+        max_evaluations: a.evaluations,
+    };
+    let report = omniad_kite::optimise::optimise(&design, &assemble, &opts)?;
+    report.spec.save(&a.output)?;
+    if a.json {
+        println!("{}", serde_json::to_string_pretty(&report)?);
+    } else {
+        print!("{}", omniad_kite::optimise::render(&report));
+        println!("wrote {}", a.output.display());
     }
     Ok(())
 }

@@ -87,5 +87,5 @@ fn launch(design: &Design, wind: f64, gust: f64) -> Option<Flight> {
         seed: SEED,
         ..FlightOptions::default()
     };
-    Flight::new(design.clone(), &opts).ok()
+    omniad_kite::launch::launch(design, &opts).ok()
 }

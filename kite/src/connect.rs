@@ -1,0 +1,122 @@
+//! Which parts of the frame hold together: a `[[rod]]` end sitting on a
+//! primitive (within [`CONTACT`] of one of its frame edges, or inside an
+//! object's bounding box) joins the rod to it, rods join where an end
+//! meets another rod, and primitives join where a corner of one lies on
+//! an edge of the other. The frame is connected when all of it is one
+//! piece — a kite whose cells are not tied together falls apart on the
+//! line. `kite optimise` turns rods with the primitive they sit on and
+//! refuses trials that come apart.
+
+use crate::geometry::{corners, frame_rods, rotation_from_degrees};
+use crate::spec::{Kind, KiteSpec, PrimitiveSpec};
+use nalgebra::{Matrix3, Vector3};
+
+/// How close a rod end must be to count as sitting on an edge, m: a
+/// socket's reach (the 2 mm rod in a socket a few mm deep).
+pub const CONTACT: f64 = 0.01;
+
+/// Distance from `p` to the segment `a`-`b`, m.
+fn segment_distance(p: &Vector3<f64>, a: &Vector3<f64>, b: &Vector3<f64>) -> f64 {
+    let ab = b - a;
+    let t = ((p - a).dot(&ab) / ab.norm_squared().max(f64::MIN_POSITIVE)).clamp(0.0, 1.0);
+    (a + ab * t - p).norm()
+}
+
+/// Whether `point` sits on primitive `p`'s frame (or in an object).
+fn touches(p: &PrimitiveSpec, point: &Vector3<f64>) -> bool {
+    if p.kind == Kind::Object || !p.frame {
+        let q = rotation_from_degrees(&p.rotation);
+        let local = q.transpose() * (point - Vector3::from(p.position));
+        return (0..3).all(|k| local[k].abs() <= p.size[k] / 2.0 + CONTACT);
+    }
+    frame_rods(p, 0.0)
+        .iter()
+        .any(|r| segment_distance(point, &r.a, &r.b) < CONTACT)
+}
+
+/// The primitive a rod end sits on, if any (the first).
+fn holder(spec: &KiteSpec, point: &Vector3<f64>) -> Option<usize> {
+    spec.primitives.iter().position(|p| touches(p, point))
+}
+
+/// Number of separate pieces of the frame (primitives and rods).
+pub fn pieces(spec: &KiteSpec) -> usize {
+    let n = spec.primitives.len();
+    let mut parent: Vec<usize> = (0..n + spec.rods.len()).collect();
+    fn root(p: &mut [usize], mut i: usize) -> usize {
+        while p[i] != i {
+            p[i] = p[p[i]];
+            i = p[i];
+        }
+        i
+    }
+    let join = |p: &mut Vec<usize>, a: usize, b: usize| {
+        let (ra, rb) = (root(p, a), root(p, b));
+        p[ra] = rb;
+    };
+    for (i, a) in spec.primitives.iter().enumerate() {
+        for (j, b) in spec.primitives.iter().enumerate().skip(i + 1) {
+            if corners(a).iter().any(|c| touches(b, c)) || corners(b).iter().any(|c| touches(a, c))
+            {
+                join(&mut parent, i, j);
+            }
+        }
+    }
+    for (k, r) in spec.rods.iter().enumerate() {
+        let (ra, rb) = (Vector3::from(r.from), Vector3::from(r.to));
+        for end in [ra, rb] {
+            for (i, p) in spec.primitives.iter().enumerate() {
+                if touches(p, &end) {
+                    join(&mut parent, n + k, i);
+                }
+            }
+            for (m, other) in spec.rods.iter().enumerate().filter(|(m, _)| *m != k) {
+                let (oa, ob) = (Vector3::from(other.from), Vector3::from(other.to));
+                if segment_distance(&end, &oa, &ob) < CONTACT {
+                    join(&mut parent, n + k, n + m);
+                }
+            }
+        }
+    }
+    let mut roots: Vec<usize> = (0..parent.len()).map(|i| root(&mut parent, i)).collect();
+    roots.sort_unstable();
+    roots.dedup();
+    roots.len()
+}
+
+/// Whether the frame is one piece.
+pub fn connected(spec: &KiteSpec) -> bool {
+    pieces(spec) <= 1
+}
+
+/// Turns primitive `i` by `degrees` about the design frame's z axis
+/// through its centre (its `rotation.z` grows by `degrees`: rotations are
+/// about fixed axes, z last, so `Q' = R_z Q`), carrying along every
+/// `[[rod]]` end that sits on it, so rods stay in their sockets.
+pub fn turn_primitive(spec: &mut KiteSpec, i: usize, degrees: f64) {
+    let Some(p) = spec.primitives.get(i).cloned() else {
+        return;
+    };
+    let turn: Matrix3<f64> = rotation_from_degrees(&[0.0, 0.0, degrees]);
+    let c = Vector3::from(p.position);
+    let moved = |end: [f64; 3]| -> [f64; 3] {
+        let v = Vector3::from(end);
+        (c + turn * (v - c)).into()
+    };
+    let ends: Vec<[bool; 2]> = spec
+        .rods
+        .iter()
+        .map(|r| [r.from, r.to].map(|e| holder(spec, &Vector3::from(e)) == Some(i)))
+        .collect();
+    for (r, [a, b]) in spec.rods.iter_mut().zip(ends) {
+        if a {
+            r.from = moved(r.from);
+        }
+        if b {
+            r.to = moved(r.to);
+        }
+    }
+    if let Some(q) = spec.primitives.get_mut(i) {
+        q.rotation[2] += degrees;
+    }
+}
