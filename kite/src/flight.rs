@@ -109,6 +109,16 @@ pub fn fly(design: &Design, opts: &FlightOptions) -> Result<FlightReport> {
     let mut min_height = f64::INFINITY;
     for i in 0..=steps {
         min_height = min_height.min(flight.state().position.z);
+        if blew_up(flight.state()) {
+            // A numerical blow-up is not a physical crash: say so.
+            anyhow::bail!(
+                "numerical blow-up at t = {:.3} s: speed {:.3e} m/s, spin {:.3e} rad/s \
+                 (integration step too large for this kite and line?)",
+                flight.time(),
+                flight.state().velocity.norm(),
+                flight.state().angular_velocity.norm()
+            );
+        }
         if flight.crashed() {
             crash_time = Some(flight.time());
             trace.push(flight.sample());
@@ -122,6 +132,17 @@ pub fn fly(design: &Design, opts: &FlightOptions) -> Result<FlightReport> {
         }
     }
     Ok(summarise(design, opts, crash_time, min_height, trace))
+}
+
+/// Speeds no tethered kite reaches (m/s; a kite in wind U moves at most a
+/// few times U), and spin rates no kite frame survives (rad/s): beyond
+/// them the state is numerical, not physical.
+const BLOW_UP_SPEED: f64 = 200.0;
+const BLOW_UP_SPIN: f64 = 500.0;
+
+/// Whether the state is a numerical blow-up rather than a flight.
+fn blew_up(s: &omniad_core::State<f64>) -> bool {
+    !s.is_finite() || s.velocity.norm() > BLOW_UP_SPEED || s.angular_velocity.norm() > BLOW_UP_SPIN
 }
 
 fn summarise(

@@ -89,3 +89,18 @@ fn trim_from_a_disturbed_start_finds_the_balance() {
     let torque = omniad_core::kite::statics::kite_torque(&kite, &cond, &t.orientation, &p).unwrap();
     assert!(torque.norm() < 1e-6);
 }
+
+/// A step far too large for the stiff tether makes the integration blow
+/// up: `fly` must say so, not report a physical crash.
+#[test]
+fn a_numerical_blow_up_is_an_error_not_a_crash() {
+    let opts = omniad_kite::flight::FlightOptions {
+        seconds: 5.0,
+        dt: 0.5,
+        ..Default::default()
+    };
+    match omniad_kite::flight::fly(&common::kite("box-three-cell"), &opts) {
+        Err(e) => assert!(e.to_string().contains("numerical blow-up"), "{e:#}"),
+        Ok(r) => panic!("a 0.5 s step on a stiff line flew: {:?}", r.outcome),
+    }
+}
