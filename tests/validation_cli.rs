@@ -87,7 +87,10 @@ fn fails_naming(args: &[&str], option: &str) {
 fn bad_model_and_shape_options_are_errors_naming_the_option() {
     let sim = ["simulate", "--duration", "1", "--shape", "plate"];
     fails_naming(&[&sim[..], &["--model", "nope"]].concat(), "--model");
-    fails_naming(&["simulate", "--duration", "1", "--shape", "disc"], "--shape");
+    fails_naming(
+        &["simulate", "--duration", "1", "--shape", "disc"],
+        "--shape",
+    );
     fails_naming(&[&sim[..], &["--size", "0.3,0.5"]].concat(), "--size");
     fails_naming(&[&sim[..], &["--size", "0.3,-0.5,0.02"]].concat(), "--size");
     fails_naming(&[&sim[..], &["--mass", "0"]].concat(), "--mass");
@@ -143,7 +146,12 @@ fn report_on_a_tiny_synthetic_set_writes_its_figures_and_model() {
     // The fitted model is a coefficient file the simulator reads.
     let model = dir.join("model.omni");
     let out = omniad()
-        .args(["simulate", model.to_str().expect("utf-8"), "--duration", "0.1"])
+        .args([
+            "simulate",
+            model.to_str().expect("utf-8"),
+            "--duration",
+            "0.1",
+        ])
         .arg("--json")
         .output()
         .expect("simulate");
