@@ -141,8 +141,12 @@ fn report_on_a_tiny_synthetic_set_writes_its_figures_and_model() {
     assert_eq!(json["fig12"].as_array().map(Vec::len), Some(5));
     assert!(json["fig13"][0]["drag_l1"].as_f64().is_some());
     let cf = json["accuracy"]["cf_rel_l2"].as_f64().expect("C_F error");
-    let ct = json["accuracy"]["ct_rel_l2"].as_f64().expect("C_T error");
-    assert!(cf.is_finite() && ct.is_finite(), "{cf} {ct}");
+    assert!(cf.is_finite(), "{cf}");
+    // So few spins may leave no direction with 20 torque frames: then the
+    // C_T error is null (not a number), never a made-up value.
+    let ct_dirs = json["accuracy"]["ct_directions"].as_u64().expect("count");
+    let ct = json["accuracy"]["ct_rel_l2"].as_f64();
+    assert_eq!(ct.is_some_and(f64::is_finite), ct_dirs > 0, "{ct:?}");
     // The fitted model is a coefficient file the simulator reads.
     let model = dir.join("model.omni");
     let out = omniad()

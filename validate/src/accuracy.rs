@@ -6,7 +6,8 @@
 use anyhow::{anyhow, Result};
 use omniad_acquire::pipeline::FitOutcome;
 use omniad_acquire::synth::truth::{
-    fitted_directions, force_error, read_coefficients, torque_directions, torque_error,
+    coefficient_error, fitted_directions, force_error, read_coefficients, torque_directions,
+    Coefficient,
 };
 use serde_json::{json, Value};
 use std::fmt::Write as _;
@@ -33,20 +34,30 @@ pub fn against_truth(set_dir: &Path, fit: &FitOutcome, md: &mut String) -> Resul
         MIN_FRAMES,
         angle,
     );
-    let (ct, nt) = torque_error(
+    let (ct, nt) = coefficient_error(
         &fit.model,
         &truth,
         &torque_directions(&fit.samples),
         MIN_FRAMES,
         angle,
+        Coefficient::Torque,
     );
     let _ = write!(
         md,
-        "\n## Coefficient accuracy against the generating model\n\nRelative L2 error over the truth grid directions with >= {MIN_FRAMES} fitted frames within {ANGLE_DEG}° (`omniad lab accept`'s metric; C_T counts the torque fit's frames).\n\n| coefficient | error | directions |\n|---|---|---|\n| C_F | {:.2} % | {nf} |\n| C_T | {:.2} % | {nt} |\n",
-        100.0 * cf,
-        100.0 * ct
+        "\n## Coefficient accuracy against the generating model\n\nRelative L2 error over the truth grid directions with >= {MIN_FRAMES} fitted frames within {ANGLE_DEG}° (`omniad lab accept`'s metric; C_T counts the torque fit's frames).\n\n| coefficient | error | directions |\n|---|---|---|\n| C_F | {} | {nf} |\n| C_T | {} | {nt} |\n",
+        percent(cf),
+        percent(ct)
     );
     Ok(Some(json!({
         "cf_rel_l2": cf, "cf_directions": nf, "ct_rel_l2": ct, "ct_directions": nt,
     })))
+}
+
+/// `x` as a percentage, or "n/a" when no direction was covered (NaN).
+fn percent(x: f64) -> String {
+    if x.is_finite() {
+        format!("{:.2} %", 100.0 * x)
+    } else {
+        "n/a".into()
+    }
 }

@@ -138,32 +138,37 @@ pub fn force_error(
     min_frames: usize,
     angle: f64,
 ) -> (f64, usize) {
-    coefficient_error(model, truth, directions, min_frames, angle, 1)
+    coefficient_error(
+        model,
+        truth,
+        directions,
+        min_frames,
+        angle,
+        Coefficient::Force,
+    )
 }
 
-/// As [`force_error`] for the torque coefficient `C_T` (eq. 6's
-/// dimensionless `Σ_i E^i β^i·Y`, body frame; the damping D is not in it):
-/// `sqrt(Σ|C_T - C_T*|² / Σ|C_T*|²)` over the covered grid directions
-/// (`directions` normally [`torque_directions`]).
-pub fn torque_error(
+/// Which coefficient [`coefficient_error`] scores.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Coefficient {
+    /// The force coefficient `C_F` (eq. 7).
+    Force,
+    /// The torque coefficient `C_T` (eq. 8's dimensionless `Σ_i E^i
+    /// β^i·Y`, body frame; the damping D is not in it), scored normally
+    /// over [`torque_directions`].
+    Torque,
+}
+
+/// The relative L2 error of `which` coefficient over the truth grid
+/// directions covered by `directions` (as [`force_error`]):
+/// `sqrt(Σ|C - C*|² / Σ|C*|²)`, and the number of such directions.
+pub fn coefficient_error(
     model: &Coefficients<f64>,
     truth: &[[Vector3<f64>; 3]],
     directions: &[Vector3<f64>],
     min_frames: usize,
     angle: f64,
-) -> (f64, usize) {
-    coefficient_error(model, truth, directions, min_frames, angle, 2)
-}
-
-/// The relative L2 error of column `column` (1: C_F, 2: C_T) of the truth
-/// rows, over the covered directions.
-fn coefficient_error(
-    model: &Coefficients<f64>,
-    truth: &[[Vector3<f64>; 3]],
-    directions: &[Vector3<f64>],
-    min_frames: usize,
-    angle: f64,
-    column: usize,
+    which: Coefficient,
 ) -> (f64, usize) {
     let (mut num, mut den, mut n) = (0.0, 0.0, 0);
     for row in truth {
@@ -174,7 +179,7 @@ fn coefficient_error(
         let Some(c) = model.at_direction(&e) else {
             continue;
         };
-        let (fitted, true_value) = if column == 2 {
+        let (fitted, true_value) = if which == Coefficient::Torque {
             (c.torque, row[2])
         } else {
             (c.force, row[1])
