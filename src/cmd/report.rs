@@ -1,7 +1,7 @@
 //! `omniad report SET -o DIR [--json]`: the validation report of a
 //! recording set (the paper's Figs. 8, 12, 13; `omniad_validate::report`).
 
-use super::common::read_coefficients;
+use super::common::{read_coefficients, write_coefficients};
 use anyhow::Result;
 use clap::Args;
 use std::path::PathBuf;
@@ -11,7 +11,8 @@ use std::path::PathBuf;
 pub struct ReportArgs {
     /// Recording set folder.
     pub set: PathBuf,
-    /// Output folder for report.md, report.json and the SVG figures.
+    /// Output folder for report.md, report.json, the SVG figures and the
+    /// fitted model.omni.
     #[arg(short, long)]
     pub output: PathBuf,
     /// Also compare this coefficient file with the measured lift and drag
@@ -58,6 +59,7 @@ pub fn run(a: &ReportArgs) -> Result<()> {
         command: &command,
         compare: compare.as_ref().map(|m| (name.as_str(), m)),
         degrees,
+        save_model: write_coefficients,
     };
     let json = omniad_validate::report::run(&a.set, &a.output, &opts)?;
     if a.json {

@@ -3,14 +3,17 @@
 //! recording set, as `DIR/report.md` with SVG figures and `DIR/report.json`
 //! (every file written atomically through `omniad-io`).
 //!
-//! The set is fitted once with the full pipeline at N = 8 (`DIR/model.omni`
-//! is not written: the report is about numbers). The lift/drag section is
+//! The set is fitted once with the full pipeline at N = 8 and the fitted
+//! model written to `DIR/model.omni` (so every figure's OmniAD curve can be
+//! re-simulated: `omniad simulate DIR/model.omni`). A synthetic set (with
+//! `truth/coefficients.csv`) also gets the C_F and C_T errors of that fit
+//! against its generating model (`omniad lab accept`'s metric). The lift/drag section is
 //! drawn when the object is a plate (name starting `plate`; normal +z, the
 //! chord along x), the Fig. 12 release always (a plate is the paper's
 //! 30 x 50 x 2 cm plate with the set's mass; other objects a box of the
 //! markers' extents), the Fig. 8 sweep when the set is synthetic.
 
-use crate::{release, resolution, section};
+use crate::{accuracy, release, resolution, section};
 use anyhow::{anyhow, Context, Result};
 use nalgebra::Vector3;
 use omniad_acquire::input::recording::RecordingSet;
@@ -34,7 +37,13 @@ pub struct Options<'a> {
     pub compare: Option<(&'a str, &'a Coefficients<f64>)>,
     /// Degrees of the Fig. 8 sweep (empty: none).
     pub degrees: &'a [u8],
+    /// Writes a coefficient file atomically (the CLI's `.omni` writer),
+    /// used for `DIR/model.omni`.
+    pub save_model: fn(&Path, &Coefficients<f64>) -> Result<()>,
 }
+
+/// The fitted model's file name in the report folder.
+pub const MODEL_FILE: &str = "model.omni";
 
 fn write(dir: &Path, name: &str, text: &str) -> Result<()> {
     let path = dir.join(name);
@@ -72,6 +81,15 @@ pub fn run(set_dir: &Path, out: &Path, opts: &Options<'_>) -> Result<Value> {
         set_dir.display(), opts.command, set.object.name, set.takes.len()
     );
     let mut json = json!({ "set": set_dir.display().to_string(), "object": set.object.name });
+    (opts.save_model)(&out.join(MODEL_FILE), &fit.model)?;
+    json["model_file"] = MODEL_FILE.into();
+    let _ = writeln!(
+        md,
+        "\nThe fitted model is `{MODEL_FILE}` in this folder (re-simulate it with `omniad simulate {MODEL_FILE}`).",
+    );
+    if let Some(acc) = accuracy::against_truth(set_dir, &fit, &mut md)? {
+        json["accuracy"] = acc;
+    }
     let shape = shape_of(&set);
     if set.object.name.starts_with("plate") {
         json["fig13"] = fig13(out, &mut md, &fit.model, &shape, opts)?;

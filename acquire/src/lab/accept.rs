@@ -11,7 +11,8 @@ use crate::input::state_csv::read_states;
 use crate::pipeline;
 use crate::reconstruct::run::Silent;
 use crate::synth::truth::{
-    fitted_directions, force_error, read_coefficients, state_error, StateError,
+    coefficient_error, fitted_directions, force_error, read_coefficients, state_error,
+    torque_directions, Coefficient, StateError,
 };
 use std::io::Write;
 use std::path::Path;
@@ -92,6 +93,19 @@ pub fn run(dir: &Path, knobs: &Knobs, out: &mut dyn Write) -> LabResult {
         );
     }
     scale_check(&fit.model, &truth, &dirs, out)?;
+    let (err, n) = coefficient_error(
+        &fit.model,
+        &truth,
+        &torque_directions(&fit.samples),
+        20,
+        15f64.to_radians(),
+        Coefficient::Torque,
+    );
+    say!(
+        out,
+        "C_T relative L2 error {:.2} % over {n} grid directions (torque-fit frames)",
+        err * 100.0
+    );
     if let Some(path) = &knobs.dump {
         omniad_io::write_atomic(path, directions_csv(&fit.model, &truth, &dirs).as_bytes())?;
     }

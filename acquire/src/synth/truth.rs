@@ -118,6 +118,16 @@ pub fn fitted_directions(samples: &[crate::reconstruct::forces::Sample]) -> Vec<
         .collect()
 }
 
+/// The body-frame air directions of the frames that entered the torque
+/// fit (both stability tests passed), for [`torque_error`]'s coverage count.
+pub fn torque_directions(samples: &[crate::reconstruct::forces::Sample]) -> Vec<Vector3<f64>> {
+    samples
+        .iter()
+        .filter(|s| s.use_torque && s.velocity.norm() > 0.0)
+        .map(|s| s.velocity.normalize())
+        .collect()
+}
+
 /// Relative L2 error of the model's `C_F` over the truth grid directions
 /// that have at least `min_frames` of `directions` within `angle` rad:
 /// `sqrt(Σ|C_F - C_F*|² / Σ|C_F*|²)`, and the number of such directions.
@@ -128,17 +138,54 @@ pub fn force_error(
     min_frames: usize,
     angle: f64,
 ) -> (f64, usize) {
+    coefficient_error(
+        model,
+        truth,
+        directions,
+        min_frames,
+        angle,
+        Coefficient::Force,
+    )
+}
+
+/// Which coefficient [`coefficient_error`] scores.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Coefficient {
+    /// The force coefficient `C_F` (eq. 7).
+    Force,
+    /// The torque coefficient `C_T` (eq. 8's dimensionless `Σ_i E^i
+    /// β^i·Y`, body frame; the damping D is not in it), scored normally
+    /// over [`torque_directions`].
+    Torque,
+}
+
+/// The relative L2 error of `which` coefficient over the truth grid
+/// directions covered by `directions` (as [`force_error`]):
+/// `sqrt(Σ|C - C*|² / Σ|C*|²)`, and the number of such directions.
+pub fn coefficient_error(
+    model: &Coefficients<f64>,
+    truth: &[[Vector3<f64>; 3]],
+    directions: &[Vector3<f64>],
+    min_frames: usize,
+    angle: f64,
+    which: Coefficient,
+) -> (f64, usize) {
     let (mut num, mut den, mut n) = (0.0, 0.0, 0);
-    for [e, cf, _] in truth {
-        let e = e.normalize();
+    for row in truth {
+        let e = row[0].normalize();
         if count_within(directions, &e, angle) < min_frames {
             continue;
         }
         let Some(c) = model.at_direction(&e) else {
             continue;
         };
-        num += (c.force - cf).norm_squared();
-        den += cf.norm_squared();
+        let (fitted, true_value) = if which == Coefficient::Torque {
+            (c.torque, row[2])
+        } else {
+            (c.force, row[1])
+        };
+        num += (fitted - true_value).norm_squared();
+        den += true_value.norm_squared();
         n += 1;
     }
     (
