@@ -2,7 +2,8 @@
 //! applied to every lane, in the scalar's own rounding (Rust never fuses a
 //! multiply and an add), so a lane computes bit for bit what the scalar
 //! code computes. Compiled with AVX (see [`super::run`]) the loops become
-//! one or two vector instructions each.
+//! one or two vector instructions each. No `[T; N]::map` and no closures
+//! on these paths: what does not inline is compiled without AVX.
 
 use crate::lanes::{Lanes, LANES};
 use crate::math::Real;
@@ -55,12 +56,20 @@ impl<T: Real> Lanes<T> {
     /// Lanes holding a value above `x` (false for NaN).
     #[inline(always)]
     pub fn above(self, x: T) -> Mask {
-        self.0.map(|a| a > x)
+        let mut m = [false; LANES];
+        for (m, a) in m.iter_mut().zip(self.0) {
+            *m = a > x;
+        }
+        m
     }
     /// Lanes holding a finite value.
     #[inline(always)]
     pub fn finite(self) -> Mask {
-        self.0.map(|a| a.finite())
+        let mut m = [false; LANES];
+        for (m, a) in m.iter_mut().zip(self.0) {
+            *m = a.finite();
+        }
+        m
     }
 }
 

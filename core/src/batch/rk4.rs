@@ -6,7 +6,7 @@
 
 use super::lane_ops::both;
 use super::vec::{
-    add3, cross3, div3, mat_vec, quat_mul, rotate, rotate_back, scale3, splat3, sub3,
+    add3, cross3, div3, mat_vec, quat_mul, rotate, rotate_back, scale3, scale4, splat3, sub3,
 };
 use super::vec::{Q4, V3};
 use super::wrench::{lane, set_lane, WrenchLanes};
@@ -106,7 +106,7 @@ fn state_rate<T: Real>(
     let half = Lanes::splat(T::of_f64(0.5));
     RateLanes {
         position: s.velocity,
-        orientation: quat_mul(&s.orientation, &omega_q).map(|c| c * half),
+        orientation: scale4(&quat_mul(&s.orientation, &omega_q), half),
         velocity: accel,
         angular_velocity: alpha,
     }
@@ -118,7 +118,6 @@ fn state_rate<T: Real>(
 #[inline(always)]
 fn advance<T: Real>(s: &StateLanes<T>, r: &RateLanes<T>, h: T) -> StateLanes<T> {
     let h = Lanes::splat(h);
-    let step3 = |a: &V3<T>, b: &V3<T>| add3(a, &scale3(b, h));
     let mut raw = s.orientation;
     for (q, d) in raw.iter_mut().zip(&r.orientation) {
         *q = *q + *d * h;
@@ -132,11 +131,17 @@ fn advance<T: Real>(s: &StateLanes<T>, r: &RateLanes<T>, h: T) -> StateLanes<T> 
         *o = (q / n).select(&ok, *o);
     }
     StateLanes {
-        position: step3(&s.position, &r.position),
+        position: add3(&s.position, &scale3(&r.position, h)),
         orientation,
-        velocity: step3(&s.velocity, &r.velocity),
-        angular_velocity: step3(&s.angular_velocity, &r.angular_velocity),
+        velocity: add3(&s.velocity, &scale3(&r.velocity, h)),
+        angular_velocity: add3(&s.angular_velocity, &scale3(&r.angular_velocity, h)),
     }
+}
+
+/// `a + (b + c) 2 + d`: RK4's weighted sum, in the single-body order.
+#[inline(always)]
+fn sum3<T: Real>(a: &V3<T>, b: &V3<T>, c: &V3<T>, d: &V3<T>, two: Lanes<T>) -> V3<T> {
+    add3(&add3(a, &scale3(&add3(b, c), two)), d)
 }
 
 /// What one RK4 stage needs besides the state.
@@ -169,9 +174,6 @@ impl<T: LaneScalar> Scene<'_, T> {
         let k3 = self.rate(&advance(s, &k2, dt * half));
         let k4 = self.rate(&advance(s, &k3, dt));
         let two = Lanes::splat(T::of_f64(2.0));
-        let sum3 = |a: &V3<T>, b: &V3<T>, c: &V3<T>, d: &V3<T>| {
-            add3(&add3(a, &scale3(&add3(b, c), two)), d)
-        };
         let mut orientation = k1.orientation;
         for (((o, b), c), d) in orientation
             .iter_mut()
@@ -182,14 +184,15 @@ impl<T: LaneScalar> Scene<'_, T> {
             *o = *o + (b + c) * two + d;
         }
         let combined = RateLanes {
-            position: sum3(&k1.position, &k2.position, &k3.position, &k4.position),
+            position: sum3(&k1.position, &k2.position, &k3.position, &k4.position, two),
             orientation,
-            velocity: sum3(&k1.velocity, &k2.velocity, &k3.velocity, &k4.velocity),
+            velocity: sum3(&k1.velocity, &k2.velocity, &k3.velocity, &k4.velocity, two),
             angular_velocity: sum3(
                 &k1.angular_velocity,
                 &k2.angular_velocity,
                 &k3.angular_velocity,
                 &k4.angular_velocity,
+                two,
             ),
         };
         advance(s, &combined, dt / T::of_f64(6.0))

@@ -17,7 +17,7 @@ pub type Q4<T> = [Lanes<T>; 4];
 /// `v` in every lane.
 #[inline(always)]
 pub fn splat3<T: Real>(v: &Vector3<T>) -> V3<T> {
-    [v.x, v.y, v.z].map(Lanes::splat)
+    [Lanes::splat(v.x), Lanes::splat(v.y), Lanes::splat(v.z)]
 }
 
 /// `a + b`.
@@ -37,13 +37,15 @@ pub fn sub3<T: Real>(a: &V3<T>, b: &V3<T>) -> V3<T> {
 /// `a s` (nalgebra's vector times scalar: each component times `s`).
 #[inline(always)]
 pub fn scale3<T: Real>(a: &V3<T>, s: Lanes<T>) -> V3<T> {
-    a.map(|c| c * s)
+    let [x, y, z] = *a;
+    [x * s, y * s, z * s]
 }
 
 /// `a / s` (each component divided, as nalgebra does).
 #[inline(always)]
 pub fn div3<T: Real>(a: &V3<T>, s: Lanes<T>) -> V3<T> {
-    a.map(|c| c / s)
+    let [x, y, z] = *a;
+    [x / s, y / s, z / s]
 }
 
 /// `a · b` = `(a_x b_x + a_y b_y) + a_z b_z` (nalgebra's 3-vector dot).
@@ -64,18 +66,31 @@ pub fn cross3<T: Real>(a: &V3<T>, b: &V3<T>) -> V3<T> {
 /// `(M_i0 v_0 + M_i1 v_1) + M_i2 v_2`, nalgebra's column-by-column `gemv`.
 #[inline(always)]
 pub fn mat_vec<T: Real>(m: &Matrix3<T>, v: &V3<T>) -> V3<T> {
-    let row = |i: usize| {
-        let e = |j: usize| Lanes::splat(m.get((i, j)).copied().unwrap_or_else(T::zero));
-        e(0) * v[0] + e(1) * v[1] + e(2) * v[2]
-    };
-    [row(0), row(1), row(2)]
+    let e = |i: usize, j: usize| Lanes::splat(m.get((i, j)).copied().unwrap_or_else(T::zero));
+    let [x, y, z] = *v;
+    [
+        e(0, 0) * x + e(0, 1) * y + e(0, 2) * z,
+        e(1, 0) * x + e(1, 1) * y + e(1, 2) * z,
+        e(2, 0) * x + e(2, 1) * y + e(2, 2) * z,
+    ]
+}
+
+/// `q s` per component.
+#[inline(always)]
+pub fn scale4<T: Real>(q: &Q4<T>, s: Lanes<T>) -> Q4<T> {
+    let [i, j, k, w] = *q;
+    [i * s, j * s, k * s, w * s]
 }
 
 /// `q` in every lane.
 #[inline(always)]
 pub fn splat4<T: Real>(q: &Quaternion<T>) -> Q4<T> {
-    let [i, j, k, w] = [q.i, q.j, q.k, q.w];
-    [i, j, k, w].map(Lanes::splat)
+    [
+        Lanes::splat(q.i),
+        Lanes::splat(q.j),
+        Lanes::splat(q.k),
+        Lanes::splat(q.w),
+    ]
 }
 
 /// The Hamilton product `a b` (nalgebra's formulas, term order included).

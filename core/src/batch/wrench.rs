@@ -116,15 +116,6 @@ impl<T: LaneScalar> Coefficients<T> {
         let e = scale3(velocity, k(T::one()) / speed_sq.root());
         let (cf, ct) = self.direction_lanes(&e, &moving);
         let q = k(half_rho) * speed_sq;
-        let zero = [k(T::zero()); 3];
-        let select = |v: &V3<T>, m: &Mask| {
-            let [x, y, z] = *v;
-            [
-                x.select(m, zero[0]),
-                y.select(m, zero[1]),
-                z.select(m, zero[2]),
-            ]
-        };
         let force = select(&scale3(&cf, q * k(l) * k(l)), &moving);
         let torque = select(&scale3(&ct, q * k(l) * k(l) * k(l)), &moving);
         WrenchLanes {
@@ -144,22 +135,13 @@ impl<T: LaneScalar> Coefficients<T> {
         let fast = len.above(lit(1.0 / 16.0));
         let e2 = scale3(&cross, Lanes::splat(T::one()) / len);
         let mut b = [*e, e2, cross3(e, &e2)];
-        for (i, (&f, &v)) in fast.iter().zip(valid).enumerate() {
-            if v && !f {
-                let basis = vector_basis(&lane(e, i), &pole);
-                for (bk, x) in b.iter_mut().zip(&basis) {
-                    set_lane(bk, i, x);
-                }
-            }
+        let near_pole = fast.iter().zip(valid).any(|(&f, &v)| v && !f);
+        if near_pole {
+            pole_lanes(&mut b, e, &pole, &fast, valid);
         }
         let s = sums(self.degree() as usize, self.portable_rows(), e);
-        let [b1, b2, b3] = b;
-        let combine = |a: [Lanes<T>; 3]| {
-            let [a1, a2, a3] = a;
-            add3(&add3(&scale3(&b1, a1), &scale3(&b2, a2)), &scale3(&b3, a3))
-        };
         let [a1, a2, a3, t1, t2, t3] = s;
-        (combine([a1, a2, a3]), combine([t1, t2, t3]))
+        (combine(&b, [a1, a2, a3]), combine(&b, [t1, t2, t3]))
     }
 
     /// The extensions' forces lane by lane, each as the single-body path
@@ -194,6 +176,41 @@ impl<T: LaneScalar> Coefficients<T> {
             }
         }
     }
+}
+
+/// The basis of the valid lanes near the poles by [`vector_basis`] itself
+/// (rare: kept out of line so the common path stays small).
+#[cold]
+#[inline(never)]
+fn pole_lanes<T: Real>(
+    b: &mut [V3<T>; 3],
+    e: &V3<T>,
+    pole: &Vector3<T>,
+    fast: &Mask,
+    valid: &Mask,
+) {
+    for (i, (&f, &v)) in fast.iter().zip(valid).enumerate() {
+        if v && !f {
+            let basis = vector_basis(&lane(e, i), pole);
+            for (bk, x) in b.iter_mut().zip(&basis) {
+                set_lane(bk, i, x);
+            }
+        }
+    }
+}
+
+/// `v` where `m` holds, zero elsewhere.
+#[inline(always)]
+fn select<T: Real>(v: &V3<T>, m: &Mask) -> V3<T> {
+    let zero = Lanes::splat(T::zero());
+    let [x, y, z] = *v;
+    [x.select(m, zero), y.select(m, zero), z.select(m, zero)]
+}
+
+/// `b1 a1 + b2 a2 + b3 a3` (eqs. 7-8 in the basis, the single-body order).
+#[inline(always)]
+fn combine<T: Real>([b1, b2, b3]: &[V3<T>; 3], [a1, a2, a3]: [Lanes<T>; 3]) -> V3<T> {
+    add3(&add3(&scale3(b1, a1), &scale3(b2, a2)), &scale3(b3, a3))
 }
 
 /// `Σ_k rows[k] Y_k(e)` per lane: [`crate::sh::accumulate`] with lanes.
