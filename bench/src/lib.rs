@@ -14,6 +14,7 @@
 //! Nothing here asserts a time: the suite reports.
 
 pub mod fit;
+pub mod model;
 pub mod peer;
 pub mod physics;
 mod timer;

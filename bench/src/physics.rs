@@ -1,13 +1,14 @@
-//! Evaluation and many-body RK4 figures with the degree-8 model of the
-//! criterion benches (`core/benches/aero.rs`): every coefficient non-zero.
+//! Evaluation and many-body RK4 figures with the degree-8 model of
+//! [`crate::model`] (shared with the criterion benches).
 
+use crate::model::{lanes, model, moving};
 use crate::timer::per_call;
 use nalgebra::{Matrix3, UnitQuaternion, Vector3};
 use omniad_core::batch::{rk4_lanes, StateLanes};
 use omniad_core::integrate::rk4_step;
-use omniad_core::lanes::{Lanes, LANES};
+use omniad_core::lanes::LANES;
 use omniad_core::rigid_body::AirForces;
-use omniad_core::{Coefficients, Environment, LaneScalar, RigidBody, State};
+use omniad_core::{Environment, LaneScalar, RigidBody, State};
 use omniad_sim::Bodies;
 use std::hint::black_box;
 use std::time::Instant;
@@ -41,21 +42,6 @@ pub struct Figures {
     pub threads: usize,
     /// The most bodies stepped at 240 Hz in real time on all cores.
     pub bodies_realtime: u64,
-}
-
-/// A degree-8 model with every coefficient non-zero.
-pub fn model<T: LaneScalar>() -> Coefficients<T> {
-    let mut m = Coefficients::zeros(8, Vector3::z(), T::of_f64(0.58))
-        .expect("degree 8, a unit pole and L > 0 are valid");
-    for k in 0..m.coeff_count() {
-        for i in 0..3 {
-            let v = T::of_f64(((k * 7 + i * 3) % 11) as f64 * 0.01 - 0.05);
-            let _ = m.set_alpha(i, k, v);
-            let _ = m.set_beta(i, k, v * T::of_f64(0.1));
-        }
-    }
-    let _ = m.set_damping(&(Matrix3::identity() * T::of_f64(0.02)));
-    m
 }
 
 /// The 30 x 50 x 2 cm, 48 g foam plate (the MuJoCo peer's body).

@@ -50,13 +50,7 @@ impl<T: LaneScalar> Coefficients<T> {
         angular_velocity: &V3<T>,
         air_density: T,
     ) -> WrenchLanes<T> {
-        run_wide(&LanesKernel {
-            model: self,
-            velocity,
-            angular_velocity,
-            gravity_body: None,
-            air_density,
-        })
+        self.run_lanes(velocity, angular_velocity, None, air_density)
     }
 
     /// [`Self::wrench_lanes`] plus the gravity coupling, as
@@ -68,11 +62,22 @@ impl<T: LaneScalar> Coefficients<T> {
         gravity_body: &V3<T>,
         air_density: T,
     ) -> WrenchLanes<T> {
+        self.run_lanes(velocity, angular_velocity, Some(gravity_body), air_density)
+    }
+
+    /// Both of the above, compiled with AVX where the machine has it.
+    fn run_lanes(
+        &self,
+        velocity: &V3<T>,
+        angular_velocity: &V3<T>,
+        gravity_body: Option<&V3<T>>,
+        air_density: T,
+    ) -> WrenchLanes<T> {
         run_wide(&LanesKernel {
             model: self,
             velocity,
             angular_velocity,
-            gravity_body: Some(gravity_body),
+            gravity_body,
             air_density,
         })
     }
