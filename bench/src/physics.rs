@@ -1,7 +1,7 @@
 //! Evaluation and many-body RK4 figures with the degree-8 model of
 //! [`crate::model`] (shared with the criterion benches).
 
-use crate::model::{lanes, model, moving};
+use crate::model::{lanes, model};
 use crate::timer::per_call;
 use nalgebra::{Matrix3, UnitQuaternion, Vector3};
 use omniad_core::batch::{rk4_lanes, StateLanes};
@@ -80,12 +80,9 @@ fn eval_ns<T: LaneScalar>(batches: usize) -> (f64, f64) {
     let single = per_call(batches, 2000, || {
         black_box(m.wrench(black_box(&v), black_box(&w), c(1.2)));
     });
-    let lanes = |base: [f64; 3], step: f64| {
-        base.map(|b| Lanes(std::array::from_fn(|i| c(b + step * i as f64))))
-    };
     let (vl, wl) = (
-        lanes([0.3, -1.2, -3.1], 0.05),
-        lanes([0.5, 0.1, -0.7], 0.02),
+        lanes::<T>([0.3, -1.2, -3.1], 0.05),
+        lanes::<T>([0.5, 0.1, -0.7], 0.02),
     );
     let batch = per_call(batches, 250, || {
         black_box(m.wrench_lanes(black_box(&vl), black_box(&wl), c(1.2)));
