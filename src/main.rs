@@ -53,6 +53,8 @@ enum Command {
     /// Real kite flight telemetry: fit, held-out residual, effects.
     #[command(subcommand)]
     Flight(cmd::flight::FlightCommand),
+    /// Speed suite: evaluation, batch, many-body RK4, fit, MuJoCo peer (BENCHMARKS.md).
+    Bench(cmd::bench::BenchArgs),
     /// Research measurements behind BENCHMARKS.md (synthetic sets with truth/).
     #[command(subcommand)]
     Lab(cmd::lab::LabCommand),
@@ -90,6 +92,7 @@ fn main() -> ExitCode {
         Some(Command::ImportTracks(a)) => cmd::import::run(a),
         Some(Command::Flight(c)) => cmd::flight::run(c),
         Some(Command::Lab(c)) => cmd::lab::run(c),
+        Some(Command::Bench(a)) => cmd::bench::run(a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -377,6 +377,12 @@ impl<T: LaneScalar> Coefficients<T> {
         sh::accumulate(self.degree as usize, e, rows)
     }
 
+    /// The portable path's rows in walk order, up to the degree (the batch
+    /// path, [`crate::batch`], streams through them too).
+    pub(crate) fn portable_rows(&self) -> &[[T; SETS]] {
+        self.rows.get(..self.coeff_count()).unwrap_or(&[])
+    }
+
     /// Evaluate with the portable path only (e.g. to compare results bit
     /// for bit with the firmware); the SIMD path otherwise.
     pub fn set_portable(&mut self, portable: bool) {

@@ -92,6 +92,22 @@ pub trait SimdKernel {
     fn run(&self) -> Self::Output;
 }
 
+/// Runs `kernel` compiled for this machine's vector features (AVX and FMA,
+/// detected at run time on x86_64) whatever its scalar type; elsewhere, or
+/// without them, as it is. Rust never fuses a multiply and an add on its
+/// own, so the result is the same either way.
+#[inline(always)]
+pub fn run_wide<K: SimdKernel>(kernel: &K) -> K::Output {
+    #[cfg(target_arch = "x86_64")]
+    {
+        x86::run_wide(kernel)
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    {
+        kernel.run()
+    }
+}
+
 /// Coefficient storage for a SIMD path, kept beside the rows of the
 /// scalar path by [`crate::Coefficients`] (`()` where there is none).
 pub trait SimdCoefficients<T>: Clone + core::fmt::Debug + PartialEq {

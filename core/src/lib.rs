@@ -42,6 +42,7 @@ extern crate std;
 
 pub mod aero;
 pub mod basis;
+pub mod batch;
 pub mod coefficients;
 pub mod crc32;
 pub mod effect;

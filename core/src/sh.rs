@@ -240,7 +240,7 @@ pub static WALK_F32: WalkTables<f32> = {
 
 /// A scalar the SH recurrence runs in: [`Real`] plus the recurrence's
 /// constants already rounded to it (f32 and f64).
-pub trait ShScalar: Real {
+pub trait ShScalar: Real + WalkValue<Self> {
     /// The walk's constants in this type.
     fn walk_tables() -> &'static WalkTables<Self>;
 }
@@ -294,50 +294,86 @@ pub fn evaluate_walk<T: ShScalar>(degree: usize, dir: &Vector3<T>, out: &mut [T]
     written
 }
 
+/// What the recurrence runs on: the scalar itself, or eight of them side
+/// by side (one body per lane, [`crate::batch`]). Every operation is the
+/// scalar one applied lane by lane, so a lane rounds exactly as the scalar
+/// walk does.
+pub trait WalkValue<T>:
+    Copy + core::ops::Add<Output = Self> + core::ops::Sub<Output = Self> + core::ops::Mul<Output = Self>
+{
+    /// `x` in every lane.
+    fn splat(x: T) -> Self;
+}
+
+impl WalkValue<f32> for f32 {
+    #[inline(always)]
+    fn splat(x: f32) -> Self {
+        x
+    }
+}
+
+impl WalkValue<f64> for f64 {
+    #[inline(always)]
+    fn splat(x: f64) -> Self {
+        x
+    }
+}
+
 /// Calls `emit` with every `Y_lm(dir)`, `l <= degree`, in walk order.
 #[inline(always)]
-fn walk<T: ShScalar>(degree: usize, dir: &Vector3<T>, mut emit: impl FnMut(T)) {
+fn walk<T: ShScalar>(degree: usize, dir: &Vector3<T>, emit: impl FnMut(T)) {
+    walk_values(degree, [dir.x, dir.y, dir.z], emit);
+}
+
+/// [`walk`] over [`WalkValue`]s: `[x, y, z]` of the unit direction (one
+/// direction per lane for lanes).
+#[inline(always)]
+pub(crate) fn walk_values<T: ShScalar, S: WalkValue<T>>(
+    degree: usize,
+    [x, y, z]: [S; 3],
+    mut emit: impl FnMut(S),
+) {
     let degree = degree.min(MAX_DEGREE);
     let t = T::walk_tables();
-    let (x, y, z) = (dir.x, dir.y, dir.z);
     let ab = |m: usize| {
         let start = WALK_START.get(m).copied().unwrap_or(0);
         let len = degree.saturating_sub(m + 1);
         t.ab.get(start..start + len).unwrap_or(&[])
     };
+    let k = S::splat;
     let [y00, sqrt3, sqrt2] = t.y00_sqrt3_sqrt2;
     // m = 0: zonal harmonics.
-    let mut q_mm = y00;
+    let mut q_mm = k(y00);
     emit(q_mm);
     if degree >= 1 {
-        let (mut q2, mut q1) = (q_mm, sqrt3 * z * q_mm);
+        let (mut q2, mut q1) = (q_mm, k(sqrt3) * z * q_mm);
         emit(q1);
         for &(a, b) in ab(0) {
-            let q = a * (z * q1 - b * q2);
+            let q = k(a) * (z * q1 - k(b) * q2);
             emit(q);
             q2 = q1;
             q1 = q;
         }
     }
     // m >= 1: (C_m, S_m) = (x + iy)^m carry the longitude.
-    let (mut c, mut s) = (T::one(), T::zero());
+    let (mut c, mut s) = (k(T::one()), k(T::zero()));
     for m in 1..=degree {
         let (c_prev, s_prev) = (c, s);
         c = x * c_prev - y * s_prev;
         s = x * s_prev + y * c_prev;
-        q_mm *= t.diag.get(m).copied().unwrap_or_else(T::zero);
-        let (cm, sm) = (sqrt2 * c, sqrt2 * s);
+        q_mm = q_mm * k(t.diag.get(m).copied().unwrap_or_else(T::zero));
+        let (cm, sm) = (k(sqrt2) * c, k(sqrt2) * s);
         emit(q_mm * cm);
         emit(q_mm * sm);
         if m == degree {
             break;
         }
         let mut q2 = q_mm;
-        let mut q1 = t.sub.get(m).copied().unwrap_or_else(T::zero) * z * q_mm;
+        let mut q1 = k(t.sub.get(m).copied().unwrap_or_else(T::zero)) * z * q_mm;
         emit(q1 * cm);
         emit(q1 * sm);
         for &(a, b) in ab(m) {
-            let q = a * (z * q1 - b * q2);
+            let q = k(a) * (z * q1 - k(b) * q2);
             emit(q * cm);
             emit(q * sm);
             q2 = q1;

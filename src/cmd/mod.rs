@@ -1,5 +1,6 @@
 //! Command implementations, one module per command family.
 
+pub mod bench;
 pub mod coeffs;
 pub mod common;
 pub mod firmware;

@@ -79,6 +79,19 @@ impl SimdCoefficients<f32> for LaneBlocks {
     }
 }
 
+/// `kernel` compiled with AVX and FMA when the machine has them, for any
+/// scalar type (the batch path of [`crate::batch`] runs f32 and f64 this
+/// way: eight bodies per lane group become one or two vector instructions).
+#[inline(always)]
+pub(crate) fn run_wide<K: SimdKernel>(kernel: &K) -> K::Output {
+    if has_avx() {
+        // SAFETY: AVX and FMA support was just checked.
+        unsafe { run_avx(kernel) }
+    } else {
+        kernel.run()
+    }
+}
+
 /// `kernel` (e.g. [`crate::Coefficients::wrench`]) compiled with AVX and
 /// FMA enabled.
 #[target_feature(enable = "avx,fma")]

@@ -16,7 +16,7 @@ pub const SEED: u64 = 14;
 /// Default number of bodies.
 pub const DEFAULT_COUNT: usize = 400;
 /// Most bodies.
-pub const MAX_COUNT: usize = 8000;
+pub const MAX_COUNT: usize = 25_600;
 
 /// The simulation view's state.
 #[derive(Clone, Debug)]

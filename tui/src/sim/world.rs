@@ -3,9 +3,8 @@
 
 use crate::models::Model;
 use nalgebra::{Matrix3, Quaternion, UnitQuaternion, Vector3};
-use omniad_core::integrate::rk4_step;
-use omniad_core::rigid_body::AirForces;
 use omniad_core::{Coefficients, Environment, RigidBody, State};
+use omniad_sim::Bodies;
 
 /// Spawn box half-width (x, y), m.
 pub const HALF_WIDTH: f64 = 2.0;
@@ -47,6 +46,9 @@ pub struct World {
     /// Bodies that reached the ground and were re-spawned.
     pub landed: u64,
     rng: u64,
+    /// The states in the batch layout while a frame is stepped (buffers
+    /// kept between frames: no allocation per frame).
+    lanes: Bodies<f64>,
 }
 
 /// splitmix64: small, fast, reproducible.
@@ -66,6 +68,7 @@ impl World {
             time: 0.0,
             landed: 0,
             rng: seed,
+            lanes: Bodies::new(),
         };
         w.resize(count);
         w
@@ -95,8 +98,9 @@ impl World {
     }
 
     /// Advances one displayed frame with `model` under `params`: the
-    /// bodies are stepped in parallel (independent, so the result does not
-    /// depend on the thread count), then those that landed or left the
+    /// bodies are stepped by the batch RK4 of `omniad-sim` on all cores
+    /// (independent, so the result does not depend on the thread count),
+    /// then those that landed or left the
     /// field are re-spawned at the top.
     pub fn step_frame(&mut self, model: &Model, params: Params) {
         let (coeffs, body) = scaled(model, params);
@@ -104,27 +108,12 @@ impl World {
             air_density: params.air_density,
             ..Environment::standard()
         };
-        let forces = AirForces {
-            model: &coeffs,
-            environment: env,
-        };
-        let t0 = self.time;
-        let advance = |part: &mut [State<f64>]| {
-            for s in part {
-                for k in 0..STEPS_PER_FRAME {
-                    *s = rk4_step(&body, &env, &forces, t0 + k as f64 * DT, DT, s);
-                }
-            }
-        };
-        let threads = std::thread::available_parallelism()
-            .map_or(1, |n| n.get())
-            .min(8);
-        let chunk = self.bodies.len().div_ceil(threads).max(128);
-        std::thread::scope(|scope| {
-            for part in self.bodies.chunks_mut(chunk) {
-                scope.spawn(|| advance(part));
-            }
-        });
+        // The batch RK4 on all cores: each body bit for bit the core's
+        // `rk4_step` with `AirForces` (the air model ignores the clock),
+        // whatever the thread count.
+        self.lanes.load(&self.bodies);
+        self.lanes.step(&coeffs, &body, &env, DT, STEPS_PER_FRAME);
+        self.lanes.store(&mut self.bodies);
         self.time += STEPS_PER_FRAME as f64 * DT;
         for i in 0..self.bodies.len() {
             let out = self.bodies.get(i).is_none_or(|n| {
