@@ -120,6 +120,9 @@ pub struct FilterStats {
     pub restarts: usize,
     /// Times the filter moved to the other mirror-image pose branch.
     pub mirror_switches: usize,
+    /// Times every marker of [`LOST_FRAMES`] frames in a row was gated and
+    /// the next frame's were taken ungated (the filter had lost the object).
+    pub lost: usize,
 }
 
 fn finite(x: &FilterState) -> bool {
@@ -150,6 +153,18 @@ pub struct Smoothed {
 }
 
 impl Smoothed {
+    /// No reconstruction (a take left out).
+    pub fn empty() -> Self {
+        Self {
+            times: Vec::new(),
+            states: Vec::new(),
+            cuts: Vec::new(),
+            velocity_difference_cov: Vec::new(),
+            attitude_velocity_cov: Vec::new(),
+            stats: FilterStats::default(),
+        }
+    }
+
     /// The covariance of the body-frame velocity `V = Rᵀv` at epoch `k`,
     /// (m/s)², from [`Self::attitude_velocity_cov`] about the state there
     /// ([`body_velocity_cov`]); `None` when unknown.
@@ -402,11 +417,13 @@ impl Filter<'_> {
                 (*x, *p)
             }
             Observation::Markers(list) => {
-                let accepted = self.gate_markers(list, x, p, *lost >= LOST_FRAMES, stats);
+                let ungated = *lost >= LOST_FRAMES;
+                let accepted = self.gate_markers(list, x, p, ungated, stats);
                 if accepted.is_empty() {
                     *lost += 1;
                     return (*x, *p);
                 }
+                stats.lost += usize::from(ungated);
                 *lost = 0;
                 let (_, post, cov) = self.update_markers_robust(accepted, start, x, p, stats);
                 (post, cov)
