@@ -129,8 +129,8 @@ fn finite(x: &FilterState) -> bool {
     x.body.is_finite() && x.force.iter().chain(x.torque.iter()).all(|v| v.is_finite())
 }
 
-/// A smoothed take: one state per epoch.
-#[derive(Clone, Debug, PartialEq)]
+/// A smoothed take: one state per epoch (default: none, a take left out).
+#[derive(Clone, Debug, Default, PartialEq)]
 pub struct Smoothed {
     /// Epoch times, s.
     pub times: Vec<f64>,
@@ -153,18 +153,6 @@ pub struct Smoothed {
 }
 
 impl Smoothed {
-    /// No reconstruction (a take left out).
-    pub fn empty() -> Self {
-        Self {
-            times: Vec::new(),
-            states: Vec::new(),
-            cuts: Vec::new(),
-            velocity_difference_cov: Vec::new(),
-            attitude_velocity_cov: Vec::new(),
-            stats: FilterStats::default(),
-        }
-    }
-
     /// The covariance of the body-frame velocity `V = Rᵀv` at epoch `k`,
     /// (m/s)², from [`Self::attitude_velocity_cov`] about the state there
     /// ([`body_velocity_cov`]); `None` when unknown.

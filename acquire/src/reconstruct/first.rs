@@ -143,7 +143,7 @@ pub fn first(
                 ),
             });
             scales[i] = None;
-            smoothed[i] = Smoothed::empty();
+            smoothed[i] = Smoothed::default();
         }
     }
     Ok(First {
@@ -188,7 +188,7 @@ fn track(
 ) -> Result<Tracked> {
     let mut scales = start.to_vec();
     let mut smoothed = refine_takes(set, model, noise, cfg, &[], &scales, progress)?;
-    let empty = Smoothed::empty();
+    let empty = Smoothed::default();
     let mut troubles: Vec<Trouble> = (0..set.takes.len())
         .map(|i| match scales.get(i) {
             Some(Some(_)) => trouble(set, i, smoothed.get(i).unwrap_or(&empty)),

@@ -167,7 +167,7 @@ pub fn refine_takes(
     crate::parallel::map(&set.takes, |i, take| {
         let Some(scale) = scales.get(i).copied().unwrap_or(Some(1.0)) else {
             progress.tick();
-            return Ok(Smoothed::empty());
+            return Ok(Smoothed::default());
         };
         let filter = scaled_filter(set, model, noise, cfg, scale)?;
         let initial = take_start(take)?;
