@@ -13,9 +13,10 @@ use crate::fit::residuals::{frame_residuals, rms_dimensional, summary};
 use crate::fit::weights::{add_velocity_spread, with_markers_only_covariances};
 use crate::input::recording::RecordingSet;
 use crate::reconstruct::filter::{FilterConfig, FilterStats, Smoothed};
+use crate::reconstruct::first::{again, first, LeftOut};
 use crate::reconstruct::forces::{ForceStats, Sample};
 use crate::reconstruct::noise::{initial_noise, next_noise, ProcessNoise};
-use crate::reconstruct::run::{reconstruct, samples, Progress};
+use crate::reconstruct::run::{samples, Progress};
 use crate::reconstruct::schedule::most_likely_bias_time;
 use omniad_core::Coefficients;
 use provenance::{fill_provenance, total_stats};
@@ -120,6 +121,13 @@ pub struct FitOutcome {
     pub reconstruction: Vec<Smoothed>,
     /// The last iteration's frames.
     pub samples: Vec<Sample>,
+    /// Per take: the air-wrench scale of its noise (`reconstruct::first`),
+    /// `None` for a take left out.
+    pub take_scales: Vec<Option<f64>>,
+    /// The takes left out (their first reconstruction was implausible).
+    pub left_out: Vec<LeftOut>,
+    /// The takes' names, in the set's order (for `take_scales`).
+    pub takes: Vec<String>,
 }
 
 /// Fits the model of the samples.
@@ -187,10 +195,18 @@ pub fn fit(set: &RecordingSet, cfg: &FitConfig, progress: &dyn Progress) -> Resu
     // The first, model-free reconstruction (see
     // `with_markers_only_covariances`).
     let mut markers_only: Option<Vec<Smoothed>> = None;
+    let mut takes = Takes::default();
     for it in 0..cfg.iterations {
         let start = Instant::now();
-        let (smoothed, frames, fstats) =
-            weighed_frames(set, &model, noise, cfg, it, &mut markers_only, progress)?;
+        let (smoothed, frames, fstats) = weighed_frames(
+            set,
+            &model,
+            noise,
+            cfg,
+            it,
+            (&mut markers_only, &mut takes),
+            progress,
+        )?;
         progress.stage(&format!("iteration {}/{}: fit", it + 1, cfg.iterations), 1);
         // A later iteration whose reconstruction diverged can give a
         // non-finite fit: it is rejected like a worse one (below).
@@ -254,7 +270,48 @@ pub fn fit(set: &RecordingSet, cfg: &FitConfig, progress: &dyn Progress) -> Resu
         iterations,
         reconstruction,
         samples,
+        take_scales: takes.scales,
+        left_out: takes.left_out,
+        takes: set.takes.iter().map(|t| t.name.clone()).collect(),
     })
+}
+
+/// What the first reconstruction decided about the takes
+/// (`reconstruct::first`): each one's air-wrench scale, those left out.
+#[derive(Default)]
+struct Takes {
+    scales: Vec<Option<f64>>,
+    left_out: Vec<LeftOut>,
+}
+
+/// The first, model-free reconstruction with its per-take safety net; an
+/// error when fewer than `MIN_TAKES` takes remain.
+fn first_reconstruction(
+    set: &RecordingSet,
+    model: &Coefficients<f64>,
+    noise: ProcessNoise,
+    filter: &FilterConfig,
+    takes: &mut Takes,
+    progress: &dyn Progress,
+) -> Result<Vec<Smoothed>> {
+    let out = first(set, model, noise, filter, progress)?;
+    let kept = out.scales.iter().filter(|s| s.is_some()).count();
+    let min = crate::fit::select::MIN_TAKES.min(set.takes.len());
+    if kept < min {
+        let named: Vec<String> = out
+            .left_out
+            .iter()
+            .map(|l| format!("`{}` ({})", l.take, l.why))
+            .collect();
+        return Err(Error::Data(format!(
+            "only {kept} of {} takes could be reconstructed (at least {min} are needed); left              out: {}",
+            set.takes.len(),
+            named.join("; ")
+        )));
+    }
+    takes.scales = out.scales;
+    takes.left_out = out.left_out;
+    Ok(out.smoothed)
 }
 
 /// Iteration `it`'s reconstruction with `model` and `noise`, and its frames
@@ -268,7 +325,7 @@ fn weighed_frames(
     noise: ProcessNoise,
     cfg: &FitConfig,
     it: usize,
-    markers_only: &mut Option<Vec<Smoothed>>,
+    (markers_only, takes): (&mut Option<Vec<Smoothed>>, &mut Takes),
     progress: &dyn Progress,
 ) -> Result<(Vec<Smoothed>, Vec<Sample>, ForceStats)> {
     progress.stage(
@@ -279,7 +336,11 @@ fn weighed_frames(
     if it.saturating_add(cfg.relinearised_iterations) < cfg.iterations {
         filter.relinearise = 0;
     }
-    let smoothed = reconstruct(set, model, noise, &filter, progress)?;
+    let smoothed = if markers_only.is_none() {
+        first_reconstruction(set, model, noise, &filter, takes, progress)?
+    } else {
+        again(set, model, noise, &filter, &mut takes.scales, progress)?
+    };
     let mut fstats = ForceStats::default();
     let weighed = markers_only
         .as_deref()

@@ -194,6 +194,21 @@ fn summary(o: &FitOutcome, a: &FitArgs, total: f64) {
         ),
         None => println!("spin coupling: none"),
     }
+    for l in &o.left_out {
+        println!("take {} left out: {}", l.take, l.why);
+    }
+    let strong: Vec<String> = o
+        .take_scales
+        .iter()
+        .zip(&o.takes)
+        .filter_map(|(s, name)| s.filter(|&k| k > 1.0).map(|k| format!("{name} x{k}")))
+        .collect();
+    if !strong.is_empty() {
+        println!(
+            "air wrench assumed larger in the reconstruction of: {}",
+            strong.join(", ")
+        );
+    }
     let covered = p.coverage.iter().filter(|&&c| c > 0).count();
     println!(
         "frames used {}, dropped {}; {covered}/512 direction cells covered; {total:.2} s",
@@ -247,6 +262,8 @@ fn report(o: &FitOutcome, loaded: f64, total: f64) -> serde_json::Value {
             },
         },
         "iterations": its,
+        "left_out_takes": o.left_out,
+        "take_wrench_scales": o.takes.iter().zip(&o.take_scales).map(|(n, s)| json!({ "take": n, "scale": s })).collect::<Vec<_>>(),
         "coverage": {
             "grid": [32, 16],
             "cells_covered": p.coverage.iter().filter(|&&c| c > 0).count(),

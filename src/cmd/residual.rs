@@ -61,6 +61,9 @@ pub fn run(a: &ResidualArgs) -> Result<()> {
 }
 
 fn print_text(r: &Report) {
+    for l in &r.left_out_takes {
+        println!("take {} left out: {}", l.take, l.why);
+    }
     println!("candidates (held out, leave one take out):");
     for c in &r.candidates {
         println!(

@@ -19,6 +19,7 @@ pub(super) fn total_stats(smoothed: &[Smoothed]) -> FilterStats {
             unprojectable: a.unprojectable + s.stats.unprojectable,
             restarts: a.restarts + s.stats.restarts,
             mirror_switches: a.mirror_switches + s.stats.mirror_switches,
+            lost: a.lost + s.stats.lost,
         })
 }
 

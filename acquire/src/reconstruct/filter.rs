@@ -120,14 +120,17 @@ pub struct FilterStats {
     pub restarts: usize,
     /// Times the filter moved to the other mirror-image pose branch.
     pub mirror_switches: usize,
+    /// Times every marker of [`LOST_FRAMES`] frames in a row was gated and
+    /// the next frame's were taken ungated (the filter had lost the object).
+    pub lost: usize,
 }
 
 fn finite(x: &FilterState) -> bool {
     x.body.is_finite() && x.force.iter().chain(x.torque.iter()).all(|v| v.is_finite())
 }
 
-/// A smoothed take: one state per epoch.
-#[derive(Clone, Debug, PartialEq)]
+/// A smoothed take: one state per epoch (default: none, a take left out).
+#[derive(Clone, Debug, Default, PartialEq)]
 pub struct Smoothed {
     /// Epoch times, s.
     pub times: Vec<f64>,
@@ -402,11 +405,13 @@ impl Filter<'_> {
                 (*x, *p)
             }
             Observation::Markers(list) => {
-                let accepted = self.gate_markers(list, x, p, *lost >= LOST_FRAMES, stats);
+                let ungated = *lost >= LOST_FRAMES;
+                let accepted = self.gate_markers(list, x, p, ungated, stats);
                 if accepted.is_empty() {
                     *lost += 1;
                     return (*x, *p);
                 }
+                stats.lost += usize::from(ungated);
                 *lost = 0;
                 let (_, post, cov) = self.update_markers_robust(accepted, start, x, p, stats);
                 (post, cov)

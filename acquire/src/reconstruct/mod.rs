@@ -4,6 +4,7 @@
 //! air wrench of every frame by eqs. (9)-(10).
 
 pub mod filter;
+pub mod first;
 pub mod forces;
 pub(crate) mod measurement;
 pub mod noise;

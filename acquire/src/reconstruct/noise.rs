@@ -35,6 +35,21 @@ impl ProcessNoise {
     }
 }
 
+impl ProcessNoise {
+    /// The noise of an air wrench `k` times larger: every sigma and walk
+    /// times `k` (a take whose air carries a strong undeclared effect, see
+    /// `reconstruct::first`); the correlation time is kept.
+    pub fn scaled(self, k: f64) -> Self {
+        Self {
+            accel: self.accel * k,
+            angular_accel: self.angular_accel * k,
+            force_walk: self.force_walk * k,
+            torque_walk: self.torque_walk * k,
+            ..self
+        }
+    }
+}
+
 /// Scales of the object: a gravity-sized force `M|g|`, the torque of that
 /// force at `L/2`, and the time `τ = sqrt(L/|g|)` to fall through one
 /// reference length from rest (the time scale of the air's wrench changing).

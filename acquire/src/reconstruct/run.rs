@@ -81,6 +81,20 @@ pub(crate) fn filter<'a>(
     noise: ProcessNoise,
     cfg: &FilterConfig,
 ) -> Result<Filter<'a>> {
+    scaled_filter(set, model, noise, cfg, 1.0)
+}
+
+/// [`filter`] for a take whose air wrench is `scale` times the object's
+/// scales (see [`ProcessNoise::scaled`]): the noise and the unexplained
+/// wrench's prior are `scale` times larger.
+fn scaled_filter<'a>(
+    set: &'a RecordingSet,
+    model: &'a Coefficients<f64>,
+    noise: ProcessNoise,
+    cfg: &FilterConfig,
+    scale: f64,
+) -> Result<Filter<'a>> {
+    let noise = noise.scaled(scale);
     let body = RigidBody::new(set.object.mass, set.object.inertia)
         .map_err(|e| Error::Data(format!("object: {e}")))?;
     let mut config = cfg.clone();
@@ -98,7 +112,7 @@ pub(crate) fn filter<'a>(
         bias_time: noise.bias_time,
     };
     let (force, torque, _) = scales(set);
-    config.initial_bias = [force, torque];
+    config.initial_bias = [force * scale, torque * scale];
     Ok(Filter {
         process,
         object: &set.object,
@@ -131,10 +145,33 @@ pub fn refine(
     previous: &[Smoothed],
     progress: &dyn Progress,
 ) -> Result<Vec<Smoothed>> {
-    let filter = filter(set, model, noise, cfg)?;
+    refine_takes(set, model, noise, cfg, previous, &[], progress)
+}
+
+/// Per take: the factor on its unexplained wrench's noise and prior (see
+/// [`scaled_filter`]; the first reconstruction chooses it,
+/// `reconstruct::first`), or `None` for a take left out (its
+/// reconstruction is empty). Takes beyond the slice: 1.
+pub type TakeScales = [Option<f64>];
+
+/// [`refine`] with a scale per take ([`TakeScales`]).
+pub fn refine_takes(
+    set: &RecordingSet,
+    model: &Coefficients<f64>,
+    noise: ProcessNoise,
+    cfg: &FilterConfig,
+    previous: &[Smoothed],
+    scales: &TakeScales,
+    progress: &dyn Progress,
+) -> Result<Vec<Smoothed>> {
     crate::parallel::map(&set.takes, |i, take| {
+        let Some(scale) = scales.get(i).copied().unwrap_or(Some(1.0)) else {
+            progress.tick();
+            return Ok(Smoothed::default());
+        };
+        let filter = scaled_filter(set, model, noise, cfg, scale)?;
         let initial = take_start(take)?;
-        let smoothed = match previous.get(i) {
+        let smoothed = match previous.get(i).filter(|p| !p.states.is_empty()) {
             Some(p) => filter.refine(&take.epochs, initial, p),
             None => filter.run(&take.epochs, initial),
         };

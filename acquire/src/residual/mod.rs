@@ -117,6 +117,9 @@ pub struct Report {
     pub frames: usize,
     /// Takes analysed.
     pub takes: usize,
+    /// Takes left out: their first reconstruction was implausible
+    /// (`reconstruct::first`).
+    pub left_out_takes: Vec<crate::reconstruct::first::LeftOut>,
 }
 
 /// The analysis and the models.
@@ -222,6 +225,7 @@ pub fn analyse(
         words: Vec::new(),
         frames: p.force.frames.len(),
         takes: p.force.takes.len(),
+        left_out_takes: outcome.left_out.clone(),
     };
     report.words = words::describe(&report, &ext.params);
     Ok(Analysis {
