@@ -41,6 +41,25 @@ where
     result
 }
 
+/// Writes each `(file name, bytes)` into the folder `dir` (created if
+/// needed), each file atomically; an error names the path that failed.
+pub fn write_files_atomic<N, B>(
+    dir: &Path,
+    files: impl IntoIterator<Item = (N, B)>,
+) -> io::Result<()>
+where
+    N: AsRef<Path>,
+    B: AsRef<[u8]>,
+{
+    let named = |p: &Path, e: io::Error| io::Error::new(e.kind(), format!("{}: {e}", p.display()));
+    fs::create_dir_all(dir).map_err(|e| named(dir, e))?;
+    for (name, bytes) in files {
+        let path = dir.join(name);
+        write_atomic(&path, bytes.as_ref()).map_err(|e| named(&path, e))?;
+    }
+    Ok(())
+}
+
 /// A new, exclusive temporary file beside `path`: `.NAME.PID.N.tmp`.
 fn create_temporary(path: &Path) -> io::Result<(PathBuf, File)> {
     static COUNTER: AtomicU64 = AtomicU64::new(0);
@@ -109,6 +128,19 @@ mod tests {
         let p = dir.path().join("no/such/out.txt");
         assert!(write_atomic(&p, b"x").is_err());
         assert!(!dir.path().join("no").exists());
+    }
+
+    #[test]
+    fn files_into_a_new_folder() {
+        let dir = tempfile::tempdir().unwrap();
+        let sub = dir.path().join("plots");
+        write_files_atomic(&sub, [("a.svg", "<svg/>"), ("b.svg", "<svg></svg>")]).unwrap();
+        assert_eq!(
+            fs::read_to_string(sub.join("b.svg")).unwrap(),
+            "<svg></svg>"
+        );
+        let err = write_files_atomic(&sub.join("a.svg"), [("c", "x")]).unwrap_err();
+        assert!(err.to_string().contains("a.svg"), "{err}");
     }
 
     #[test]

@@ -110,12 +110,8 @@ fn fit(a: &FitArgs) -> Result<()> {
         super::common::write_coefficients(path, &outcome.model)?;
     }
     if let Some(dir) = &a.plots {
-        std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
-        for (name, svg) in &outcome.plots {
-            let path = dir.join(name);
-            omniad_io::write_atomic(&path, svg.as_bytes())
-                .with_context(|| format!("cannot write {}", path.display()))?;
-        }
+        omniad_io::write_files_atomic(dir, outcome.plots.iter().map(|(n, svg)| (n, svg)))
+            .context("cannot write the plots")?;
     }
     if a.json {
         println!("{}", serde_json::to_string_pretty(&outcome.report)?);

@@ -44,13 +44,9 @@ pub fn run(a: &ResidualArgs) -> Result<()> {
         super::common::write_coefficients(out, &analysis.extended)?;
     }
     if let Some(dir) = &a.plots {
-        std::fs::create_dir_all(dir)
-            .map_err(|e| anyhow::anyhow!("creating {}: {e}", dir.display()))?;
-        for (name, svg) in omniad_acquire::residual::plots::figures(&analysis.report) {
-            let path = dir.join(name);
-            omniad_io::write_atomic(&path, svg.as_bytes())
-                .map_err(|e| anyhow::anyhow!("writing {}: {e}", path.display()))?;
-        }
+        let figures = omniad_acquire::residual::plots::figures(&analysis.report);
+        omniad_io::write_files_atomic(dir, figures)
+            .map_err(|e| anyhow::anyhow!("cannot write the plots: {e}"))?;
     }
     if a.json {
         println!("{}", serde_json::to_string_pretty(&analysis.report)?);
