@@ -298,16 +298,14 @@ fn first_reconstruction(
     let kept = out.scales.iter().filter(|s| s.is_some()).count();
     let min = crate::fit::select::MIN_TAKES.min(set.takes.len());
     if kept < min {
-        let named: Vec<String> = out
-            .left_out
-            .iter()
-            .map(|l| format!("`{}` ({})", l.take, l.why))
-            .collect();
-        return Err(Error::Data(format!(
-            "only {kept} of {} takes could be reconstructed (at least {min} are needed); left              out: {}",
+        return Err(diagnose::too_few_takes(
+            kept,
             set.takes.len(),
-            named.join("; ")
-        )));
+            min,
+            out.left_out
+                .iter()
+                .map(|l| (l.take.as_str(), l.why.as_str())),
+        ));
     }
     takes.scales = out.scales;
     takes.left_out = out.left_out;

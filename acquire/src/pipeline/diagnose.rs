@@ -68,7 +68,28 @@ pub(super) fn first_fit_failed(
     }
     Error::Data(format!(
         "{why}. The first reconstruction cannot support a model: check that take's tracks and \
-         recording.toml's camera (fps, distortion, pixel_noise, pose) and object (inertia, \
-         markers)"
+         {INPUTS}"
+    ))
+}
+
+/// The inputs that make a first reconstruction impossible.
+const INPUTS: &str = "recording.toml's camera (fps, distortion, pixel_noise, pose) and object \
+                      (inertia, markers)";
+
+/// Too few takes could be reconstructed: each left-out take named with
+/// why, and the inputs to check.
+pub(super) fn too_few_takes<'a>(
+    kept: usize,
+    total: usize,
+    min: usize,
+    left_out: impl Iterator<Item = (&'a str, &'a str)>,
+) -> Error {
+    let named: Vec<String> = left_out
+        .map(|(take, why)| format!("take `{take}` ({why})"))
+        .collect();
+    Error::Data(format!(
+        "only {kept} of {total} takes could be reconstructed (at least {min} are needed); \
+         left out: {}. Check those takes' tracks and {INPUTS}",
+        named.join("; ")
     ))
 }
