@@ -83,6 +83,95 @@ pub fn run(dir: &Path, out: &mut dyn Write) -> LabResult {
         let (err, k) = force_error(&model, &truth, &dirs, 20, 15f64.to_radians());
         say!(out, "{label}: C_F {:.2} % over {k} directions", err * 100.0);
     }
+    torque_report(
+        &fit.samples,
+        &true_frames,
+        &by_key,
+        &base,
+        &set,
+        &cfg,
+        &truth,
+        out,
+    )
+}
+
+/// The same study for the torque (eq. 10): per-frame torque difference
+/// RMS and its 15-frame mean over the torque-fit frames, then the C_T
+/// error of the true torques plus white noise of that RMS, against the
+/// pipeline's: noise alone explains the pipeline's C_T error when the two
+/// agree; a pipeline error well above it is correlated (bias).
+#[allow(clippy::too_many_arguments)]
+fn torque_report(
+    rec: &[crate::reconstruct::forces::Sample],
+    true_frames: &[crate::reconstruct::forces::Sample],
+    by_key: &HashMap<(usize, usize), usize>,
+    base: &omniad_core::Coefficients<f64>,
+    set: &RecordingSet,
+    cfg: &FitConfig,
+    truth: &[[Vector3<f64>; 3]],
+    out: &mut dyn Write,
+) -> LabResult {
+    use crate::synth::truth::{coefficient_error, torque_directions, Coefficient};
+    let mut diffs = Vec::new();
+    let mut slope = (0.0, 0.0);
+    for s in rec.iter().filter(|s| s.use_torque) {
+        if let Some(t) = by_key
+            .get(&(s.take, s.index))
+            .and_then(|&i| true_frames.get(i))
+        {
+            diffs.push((s.take, s.torque - t.torque, t.velocity));
+            slope.0 += s.torque.dot(&t.torque);
+            slope.1 += t.torque.norm_squared();
+        }
+    }
+    say!(
+        out,
+        "reconstructed torque against true: slope {:.3}",
+        slope.0 / slope.1
+    );
+    let n = diffs.len().max(1) as f64;
+    let rms = (diffs.iter().map(|d| d.1.norm_squared()).sum::<f64>() / n).sqrt();
+    let true_rms = (true_frames
+        .iter()
+        .filter(|t| t.use_torque)
+        .map(|t| t.torque.norm_squared())
+        .sum::<f64>()
+        / true_frames.iter().filter(|t| t.use_torque).count().max(1) as f64)
+        .sqrt();
+    say!(
+        out,
+        "{} torque frames: torque difference RMS {rms:.5} N m (true torque RMS {true_rms:.5} N m)",
+        diffs.len()
+    );
+    say!(out, "torque difference (N m, in place of N):");
+    low_pass_report(&diffs, out)?;
+    let dirs = torque_directions(true_frames);
+    let mut rng = Rng::new(2);
+    let sigma = rms / 3f64.sqrt();
+    let noisy: Vec<_> = true_frames
+        .iter()
+        .map(|s| {
+            let mut s = *s;
+            s.torque += Vector3::new(rng.normal(), rng.normal(), rng.normal()) * sigma;
+            s
+        })
+        .collect();
+    for (label, frames) in [
+        ("pipeline frames", rec),
+        ("true torques", true_frames),
+        ("true + noise", &noisy),
+    ] {
+        let model = pipeline::fit_samples(base, frames, set, cfg)?;
+        let (err, k) = coefficient_error(
+            &model,
+            truth,
+            &dirs,
+            20,
+            15f64.to_radians(),
+            Coefficient::Torque,
+        );
+        say!(out, "{label}: C_T {:.2} % over {k} directions", err * 100.0);
+    }
     Ok(())
 }
 

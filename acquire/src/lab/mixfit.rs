@@ -11,7 +11,10 @@ use crate::input::recording::RecordingSet;
 use crate::pipeline::{self, FitConfig};
 use crate::reconstruct::forces::{ForceStats, Sample};
 use crate::reconstruct::run::Silent;
-use crate::synth::truth::{fitted_directions, force_error, read_coefficients, true_trajectories};
+use crate::synth::truth::{
+    coefficient_error, fitted_directions, force_error, read_coefficients, torque_directions,
+    true_trajectories, Coefficient,
+};
 use std::collections::HashMap;
 use std::io::Write;
 use std::path::Path;
@@ -28,10 +31,24 @@ pub fn run(dir: &Path, out: &mut dyn Write) -> LabResult {
     let truth = read_coefficients(&dir.join("truth/coefficients.csv"))?;
     let base = zero_model(&set.object, cfg.degree)?;
     let dirs = fitted_directions(&tframes);
+    let tdirs = torque_directions(&tframes);
     let report = |out: &mut dyn Write, label: &str, frames: &[Sample]| -> LabResult {
         let m = pipeline::fit_samples(&base, frames, &set, &cfg)?;
         let (e, n) = force_error(&m, &truth, &dirs, 20, 15f64.to_radians());
-        say!(out, "{label}: C_F {:.2} % over {n}", e * 100.0);
+        let (et, nt) = coefficient_error(
+            &m,
+            &truth,
+            &tdirs,
+            20,
+            15f64.to_radians(),
+            Coefficient::Torque,
+        );
+        say!(
+            out,
+            "{label}: C_F {:.2} % over {n}, C_T {:.2} % over {nt}",
+            e * 100.0,
+            et * 100.0
+        );
         Ok(())
     };
     report(out, "reconstructed", &fit.samples)?;
@@ -39,6 +56,34 @@ pub fn run(dir: &Path, out: &mut dyn Write) -> LabResult {
     let mix = |f: fn(&Sample, &Sample) -> Sample| paired(&fit.samples, &tmap, f);
     report(out, "rec force, true V/Ω", &mix(their_velocities))?;
     report(out, "true force, rec V/Ω", &mix(their_forces))?;
+    report(
+        out,
+        "rec all, true flags",
+        &mix(|s, t| Sample {
+            use_force: t.use_force,
+            use_torque: t.use_torque,
+            ..*s
+        }),
+    )?;
+    report(
+        out,
+        "rec all, every frame in the torque fit",
+        &mix(|s, _| Sample {
+            use_torque: s.use_force,
+            ..*s
+        }),
+    )?;
+    report(
+        out,
+        "true all, every frame in the torque fit",
+        &tframes
+            .iter()
+            .map(|t| Sample {
+                use_torque: t.use_force,
+                ..*t
+            })
+            .collect::<Vec<_>>(),
+    )?;
     report(
         out,
         "true all, rec flags/cov",

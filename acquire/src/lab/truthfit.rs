@@ -10,7 +10,10 @@ use crate::input::recording::RecordingSet;
 use crate::input::state_csv::read_states;
 use crate::pipeline::{self, FitConfig};
 use crate::reconstruct::forces::ForceStats;
-use crate::synth::truth::{fitted_directions, force_error, read_coefficients, true_trajectories};
+use crate::synth::truth::{
+    coefficient_error, fitted_directions, force_error, read_coefficients, torque_directions,
+    true_trajectories, Coefficient,
+};
 use std::io::Write;
 use std::path::Path;
 
@@ -44,6 +47,20 @@ pub fn run(
         out,
         "truth-state fit: C_F rel. L2 {:.2} % over {n} directions",
         err * 100.0
+    );
+    let tdirs = torque_directions(&frames);
+    let (terr, tn) = coefficient_error(
+        &model,
+        &truth,
+        &tdirs,
+        20,
+        15f64.to_radians(),
+        Coefficient::Torque,
+    );
+    say!(
+        out,
+        "truth-state fit: C_T rel. L2 {:.2} % over {tn} directions",
+        terr * 100.0
     );
     // Reconstruct with the truth-fitted model at several walk scales.
     let first = crate::reconstruct::noise::initial_noise(&set);
