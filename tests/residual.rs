@@ -105,7 +105,10 @@ fn assert_item7_keys(r: &serde_json::Value) {
         for k in ["effect", "heldout_force_rms", "heldout_torque_rms"] {
             assert!(!c[k].is_null(), "candidate key {k} missing: {c:#}");
         }
-        assert!(c["params"].is_array() && c["uncertainty"].is_array(), "{c:#}");
+        assert!(
+            c["params"].is_array() && c["uncertainty"].is_array(),
+            "{c:#}"
+        );
     }
     for k in ["base_m", "extended_m"] {
         assert!(
@@ -124,16 +127,42 @@ fn residual_with_given_coeffs() {
     let set = tmp.path().join("buoyant");
     let set_s = set.to_str().expect("utf-8");
     omniad(&[
-        "synth", set_s, "--object", "plate", "--seed", "5", "--drops", "6", "--spins", "4",
-        "--effect", "buoyancy=4",
+        "synth",
+        set_s,
+        "--object",
+        "plate",
+        "--seed",
+        "5",
+        "--drops",
+        "6",
+        "--spins",
+        "4",
+        "--effect",
+        "buoyancy=4",
     ]);
     let path = |n: &str| tmp.path().join(n).to_str().expect("utf-8").to_owned();
     let (plate, boxm) = (path("plate.omni"), path("box.omni"));
     omniad(&[
-        "panel", "--shape", "plate", "--size", "0.3,0.5,0.02", "--mass", "0.048", "-o", &plate,
+        "panel",
+        "--shape",
+        "plate",
+        "--size",
+        "0.3,0.5,0.02",
+        "--mass",
+        "0.048",
+        "-o",
+        &plate,
     ]);
     omniad(&[
-        "panel", "--shape", "box", "--size", "0.3,0.4,0.2", "--mass", "0.04", "-o", &boxm,
+        "panel",
+        "--shape",
+        "box",
+        "--size",
+        "0.3,0.4,0.2",
+        "--mass",
+        "0.04",
+        "-o",
+        &boxm,
     ]);
     let r = residual(set_s, &["--coeffs", &plate]);
     assert_item7_keys(&r);
@@ -146,7 +175,10 @@ fn residual_with_given_coeffs() {
         .find(|c| c["effect"] == "buoyancy" && c["step"] == 0)
         .and_then(|c| c["params"][0].as_f64())
         .expect("V_b");
-    assert!((vb - 0.012).abs() < 0.15 * 0.012, "V_b {vb} (synthesised 0.012)");
+    assert!(
+        (vb - 0.012).abs() < 0.15 * 0.012,
+        "V_b {vb} (synthesised 0.012)"
+    );
 
     let (out, plots) = (path("ext.omni"), path("plots"));
     let garbage = path("garbage.omni");
@@ -158,7 +190,9 @@ fn residual_with_given_coeffs() {
         (&boxm, None, "pole"),
         (&plate, Some("4"), "degree"),
     ] {
-        let mut args = vec!["residual", set_s, "--coeffs", file, "-o", &out, "--plots", &plots];
+        let mut args = vec![
+            "residual", set_s, "--coeffs", file, "-o", &out, "--plots", &plots,
+        ];
         if let Some(d) = extra {
             args.extend(["--degree", d]);
         }

@@ -44,15 +44,12 @@ pub fn run(a: &ResidualArgs) -> Result<()> {
         None => None,
     };
     let cfg = FitConfig {
-        degree: given
-            .as_ref()
-            .map_or(a.degree.unwrap_or(8), |g| g.degree()),
+        degree: given.as_ref().map_or(a.degree.unwrap_or(8), |g| g.degree()),
         ..FitConfig::default()
     };
     let analysis = {
         let bars = Bars::default();
-        analyse(&a.set, &set, &cfg, given.as_ref(), &bars)
-            .map_err(|e| anyhow::anyhow!("{e}"))?
+        analyse(&a.set, &set, &cfg, given.as_ref(), &bars).map_err(|e| anyhow::anyhow!("{e}"))?
     };
     if let Some(out) = &a.output {
         super::common::write_coefficients(out, &analysis.extended)?;
@@ -81,7 +78,10 @@ fn given_model(
 ) -> Result<omniad_core::Coefficients<f64>> {
     let m = super::common::read_coefficients(path)?;
     let why = match degree.filter(|d| *d != m.degree()) {
-        Some(d) => Err(format!("its degree is {} but --degree {d} was given", m.degree())),
+        Some(d) => Err(format!(
+            "its degree is {} but --degree {d} was given",
+            m.degree()
+        )),
         None => omniad_acquire::residual::fixed::check(&m, set),
     };
     why.map_err(|why| {

@@ -137,8 +137,8 @@ pub fn run(a: &SynthArgs) -> Result<()> {
         wind: wind(a.wind.as_deref())?,
         ..SynthConfig::default()
     };
-    let strengths = omniad_acquire::synth::write::generate(&a.out, &cfg)
-        .map_err(|e| anyhow::anyhow!("{e}"))?;
+    let strengths =
+        omniad_acquire::synth::write::generate(&a.out, &cfg).map_err(|e| anyhow::anyhow!("{e}"))?;
     println!("wrote {}", a.out.display());
     for (name, f) in strengths {
         println!(

@@ -67,3 +67,37 @@ impl Strength {
             .collect()
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use crate::synth::write::generate;
+    use crate::synth::{Effect, SynthConfig, SynthObject};
+
+    /// The fraction a set of `effect` gets, as returned and as written.
+    fn fraction(effect: &str) -> (f64, String) {
+        let dir = tempfile::tempdir().expect("tempdir");
+        let cfg = SynthConfig {
+            object: SynthObject::Plate,
+            effects: vec![Effect::parse(effect).expect("effect")],
+            takes: (2, 1),
+            ..SynthConfig::default()
+        };
+        let got = generate(dir.path(), &cfg).expect("synth");
+        let toml = std::fs::read_to_string(dir.path().join("truth/model.toml")).expect("truth");
+        (got.first().map_or(f64::NAN, |g| g.1), toml)
+    }
+
+    #[test]
+    fn force_fraction_is_written_and_linear_in_a_weak_scale() {
+        // Weak enough not to change the trajectories much: the effect's
+        // force doubles, the aerodynamic force stays.
+        let (one, toml) = fraction("linear_drag=50");
+        let (two, _) = fraction("linear_drag=100");
+        assert!(one > 0.005 && one < 0.1, "fraction {one}");
+        assert!(
+            toml.contains(&format!("[force_fraction]\nlinear_drag = {one:.4}")),
+            "{toml}"
+        );
+        assert!((two / one - 2.0).abs() < 0.1, "{one} -> {two}");
+    }
+}
