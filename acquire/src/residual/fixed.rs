@@ -66,15 +66,7 @@ fn unknowns(model: &Coefficients<f64>) -> Result<(DVector<f64>, DVector<f64>)> {
             b[i * n + k] = get(model.beta(i, k))?;
         }
     }
-    let d = model.damping();
-    let six = [
-        d[(0, 0)],
-        d[(1, 1)],
-        d[(2, 2)],
-        d[(0, 1)],
-        d[(0, 2)],
-        d[(1, 2)],
-    ];
+    let six = omniad_core::math::six_from_symmetric(&model.damping());
     for (j, v) in six.into_iter().enumerate() {
         b[3 * n + j] = v;
     }
