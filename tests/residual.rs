@@ -67,7 +67,7 @@ fn residual_names_buoyancy_and_clean_air_gets_nothing() {
         after < 0.7 * before,
         "held-out force RMS {before} -> {after}"
     );
-    assert!(r["resimulation"]["extended_m"].as_f64().is_some());
+    assert_item7_keys(&r);
     assert!(plots.join("residual-vs-spin.svg").exists());
     let info = omniad(&["info", model.to_str().expect("utf-8")]);
     assert!(info.contains("buoyancy"), "{info}");
@@ -79,4 +79,127 @@ fn residual_names_buoyancy_and_clean_air_gets_nothing() {
     omniad(&args);
     let r = residual(clean_s, &[]);
     assert_eq!(r["selected"], serde_json::json!([]), "{r:#}");
+}
+
+/// Runs omniad expecting failure; returns stderr.
+fn omniad_fails(args: &[&str]) -> String {
+    let out = Command::new(env!("CARGO_BIN_EXE_omniad"))
+        .args(args)
+        .output()
+        .expect("run omniad");
+    assert!(!out.status.success(), "omniad {args:?} succeeded");
+    String::from_utf8_lossy(&out.stderr).into_owned()
+}
+
+/// Item 7's keys, all present.
+fn assert_item7_keys(r: &serde_json::Value) {
+    for side in ["baseline", "after"] {
+        for k in ["heldout_force_rms", "heldout_torque_rms"] {
+            assert!(r[side][k].as_f64().is_some(), "{side}.{k} missing: {r:#}");
+        }
+    }
+    assert!(r["selected"].is_array(), "selected missing");
+    let cands = r["candidates"].as_array().expect("candidates");
+    assert!(!cands.is_empty());
+    for c in cands {
+        for k in ["effect", "heldout_force_rms", "heldout_torque_rms"] {
+            assert!(!c[k].is_null(), "candidate key {k} missing: {c:#}");
+        }
+        assert!(
+            c["params"].is_array() && c["uncertainty"].is_array(),
+            "{c:#}"
+        );
+    }
+    for k in ["base_m", "extended_m"] {
+        assert!(
+            r["resimulation"][k].as_f64().is_some(),
+            "resimulation.{k}: {r:#}"
+        );
+    }
+}
+
+/// `--coeffs FILE`: the panel model of the synthetic plate (the generator's
+/// own aerodynamics) as the base model of a buoyant plate set: buoyancy is
+/// what it lacks; bad files are refused naming the file, writing nothing.
+#[test]
+fn residual_with_given_coeffs() {
+    let tmp = tempfile::tempdir().expect("tempdir");
+    let set = tmp.path().join("buoyant");
+    let set_s = set.to_str().expect("utf-8");
+    omniad(&[
+        "synth",
+        set_s,
+        "--object",
+        "plate",
+        "--seed",
+        "5",
+        "--drops",
+        "6",
+        "--spins",
+        "4",
+        "--effect",
+        "buoyancy=4",
+    ]);
+    let path = |n: &str| tmp.path().join(n).to_str().expect("utf-8").to_owned();
+    let (plate, boxm) = (path("plate.omni"), path("box.omni"));
+    omniad(&[
+        "panel",
+        "--shape",
+        "plate",
+        "--size",
+        "0.3,0.5,0.02",
+        "--mass",
+        "0.048",
+        "-o",
+        &plate,
+    ]);
+    omniad(&[
+        "panel",
+        "--shape",
+        "box",
+        "--size",
+        "0.3,0.4,0.2",
+        "--mass",
+        "0.04",
+        "-o",
+        &boxm,
+    ]);
+    let r = residual(set_s, &["--coeffs", &plate]);
+    assert_item7_keys(&r);
+    assert_eq!(r["baseline_model"], "given", "{r:#}");
+    let floor = r["noise_floor_force_rms"].as_f64().expect("noise floor");
+    assert!(floor > 0.0 && floor.is_finite(), "noise floor {floor}");
+    assert_eq!(r["selected"][0], "buoyancy", "{r:#}");
+    let vb = r["candidates"]
+        .as_array()
+        .expect("candidates")
+        .iter()
+        .find(|c| c["effect"] == "buoyancy" && c["step"] == 0)
+        .and_then(|c| c["params"][0].as_f64())
+        .expect("V_b");
+    assert!(
+        (vb - 0.012).abs() < 0.15 * 0.012,
+        "V_b {vb} (synthesised 0.012)"
+    );
+
+    let (out, plots) = (path("ext.omni"), path("plots"));
+    let garbage = path("garbage.omni");
+    std::fs::write(&garbage, b"not a coefficient file").expect("write");
+    let missing = path("missing.omni");
+    for (file, extra, says) in [
+        (&garbage, None, ""),
+        (&missing, None, "cannot read"),
+        (&boxm, None, "pole"),
+        (&plate, Some("4"), "degree"),
+    ] {
+        let mut args = vec![
+            "residual", set_s, "--coeffs", file, "-o", &out, "--plots", &plots,
+        ];
+        if let Some(d) = extra {
+            args.extend(["--degree", d]);
+        }
+        let err = omniad_fails(&args);
+        assert!(err.contains(file.as_str()) && err.contains(says), "{err}");
+        assert!(!std::path::Path::new(&out).exists() && !std::path::Path::new(&plots).exists());
+    }
 }

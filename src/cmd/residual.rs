@@ -24,21 +24,32 @@ pub struct ResidualArgs {
     /// Print the report as JSON.
     #[arg(long)]
     pub json: bool,
-    /// SH degree of the fit.
-    #[arg(long, default_value_t = 8, value_parser = clap::value_parser!(u8).range(1..=8))]
-    pub degree: u8,
+    /// SH degree of the fit (default 8; with --coeffs, the file's).
+    #[arg(long, value_parser = clap::value_parser!(u8).range(1..=8))]
+    pub degree: Option<u8>,
+    /// Use this coefficient file (.omni) as the base model instead of
+    /// fitting one. It must be of the set's object (same pole and
+    /// reference length). Nothing of it is fitted, so its error is its
+    /// residual on every take; candidates are fitted on top of it
+    /// (leave one take out) and their parameters are increments.
+    #[arg(long, value_name = "FILE")]
+    pub coeffs: Option<PathBuf>,
 }
 
 /// Runs `omniad residual`.
 pub fn run(a: &ResidualArgs) -> Result<()> {
     let set = load(&a.set)?;
+    let given = match a.coeffs.as_deref() {
+        Some(path) => Some(given_model(path, &a.set, &set, a.degree)?),
+        None => None,
+    };
     let cfg = FitConfig {
-        degree: a.degree,
+        degree: given.as_ref().map_or(a.degree.unwrap_or(8), |g| g.degree()),
         ..FitConfig::default()
     };
     let analysis = {
         let bars = Bars::default();
-        analyse(&a.set, &set, &cfg, &bars).map_err(|e| anyhow::anyhow!("{e}"))?
+        analyse(&a.set, &set, &cfg, given.as_ref(), &bars).map_err(|e| anyhow::anyhow!("{e}"))?
     };
     if let Some(out) = &a.output {
         super::common::write_coefficients(out, &analysis.extended)?;
@@ -56,7 +67,39 @@ pub fn run(a: &ResidualArgs) -> Result<()> {
     Ok(())
 }
 
+/// Reads `--coeffs FILE` and checks it can be the base model of the set
+/// (`residual::fixed::check`); a `--degree` other than the file's is an
+/// error too. Every error names the file.
+fn given_model(
+    path: &std::path::Path,
+    dir: &std::path::Path,
+    set: &omniad_acquire::input::recording::RecordingSet,
+    degree: Option<u8>,
+) -> Result<omniad_core::Coefficients<f64>> {
+    let m = super::common::read_coefficients(path)?;
+    let why = match degree.filter(|d| *d != m.degree()) {
+        Some(d) => Err(format!(
+            "its degree is {} but --degree {d} was given",
+            m.degree()
+        )),
+        None => omniad_acquire::residual::fixed::check(&m, set),
+    };
+    why.map_err(|why| {
+        anyhow::anyhow!(
+            "{}: cannot be the base model of {}: {why}",
+            path.display(),
+            dir.display()
+        )
+    })?;
+    Ok(m)
+}
+
 fn print_text(r: &Report) {
+    if r.baseline_model == "given" {
+        println!(
+            "base model: the given --coeffs file, held fixed (its errors are its residual on every take)"
+        );
+    }
     for l in &r.left_out_takes {
         println!("take {} left out: {}", l.take, l.why);
     }

@@ -37,6 +37,11 @@ pub struct SynthArgs {
     /// (ρL³ c Ω×V, c = SCALE), magnus (rotational_lift with c = SCALE/2,
     /// i.e. ½ρL³ SCALE Ω×V), linear_drag (-k μ L V, k = SCALE x 3π, Stokes),
     /// propeller_thrust (½ρL⁴|Ω| K Ω, K = SCALE x Z Zᵀ with Z the pole).
+    /// The force each effect then has is measured over the generated
+    /// frames, RMS|F_effect| / RMS|F_aero| (F_aero the coefficient model's
+    /// force), printed and written to truth/model.toml [force_fraction];
+    /// it scales linearly with SCALE (issue 15's realistic strength:
+    /// 0.15-0.5).
     #[arg(long)]
     pub effect: Vec<String>,
     /// Steady wind of the recording, world frame `x,y,z`, m/s (the physics
@@ -132,7 +137,14 @@ pub fn run(a: &SynthArgs) -> Result<()> {
         wind: wind(a.wind.as_deref())?,
         ..SynthConfig::default()
     };
-    omniad_acquire::synth::write::generate(&a.out, &cfg).map_err(|e| anyhow::anyhow!("{e}"))?;
+    let strengths =
+        omniad_acquire::synth::write::generate(&a.out, &cfg).map_err(|e| anyhow::anyhow!("{e}"))?;
     println!("wrote {}", a.out.display());
+    for (name, f) in strengths {
+        println!(
+            "effect {name}: RMS force {:.1} % of the aerodynamic force's",
+            f * 100.0
+        );
+    }
     Ok(())
 }

@@ -103,6 +103,29 @@ impl Joint {
         }
     }
 
+    /// The problem with the base unknowns held at `x` and the extra
+    /// columns `held` (index, value) at their values: every target becomes
+    /// its residual `b - A_base x - Σ A_extra,c v_c` and no base unknown
+    /// is left (`base == 0`), so a design fits only its extra columns on
+    /// top of a given model (`omniad residual --coeffs`).
+    pub fn with_fixed_base(self, x: &DVector<f64>, held: &[(usize, f64)]) -> Self {
+        let (degree, smoothing) = (self.degree, self.smoothing);
+        let frames = self
+            .frames
+            .into_iter()
+            .map(|mut f| {
+                let p = &f.base * x;
+                f.target -= Vector3::new(p[0], p[1], p[2]);
+                for &(c, v) in held {
+                    f.target -= Vector3::from_iterator(f.extra.column(c).iter().map(|e| e * v));
+                }
+                f.base = DMatrix::zeros(3, 0);
+                f
+            })
+            .collect();
+        Self::new(frames, degree, smoothing)
+    }
+
     /// Indices of the unknowns of a design with extra columns `extra`.
     fn index(&self, extra: &[usize]) -> Vec<usize> {
         (0..self.base)
@@ -135,9 +158,17 @@ impl Joint {
         let idx = self.index(extra);
         let n = self.restricted(&idx, skip);
         let mut ata = n.ata;
-        regularise(&mut ata, 3, self.degree, self.smoothing);
+        // A fixed base (`with_fixed_base`) has no SH blocks to smooth.
+        if self.base > 0 {
+            regularise(&mut ata, 3, self.degree, self.smoothing);
+        }
         if let Some(u) = fixed {
             let b = self.base;
+            if b == 0 {
+                return Solution {
+                    x: DVector::from_column_slice(u),
+                };
+            }
             let sub = ata.view((0, 0), (b, b)).into_owned();
             let cross = ata.view((0, b), (b, u.len())).into_owned();
             let u = DVector::from_column_slice(u);

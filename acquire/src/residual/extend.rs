@@ -71,13 +71,23 @@ pub(crate) fn extend(
         .iter()
         .any(|c| c.has_torque())
         .then(|| p.torque.solve(&cols, Some(&u), None).x);
-    let mut model = with_coefficients(base, &force, torque.as_ref(), damping_floor)?;
+    // A held baseline (`--coeffs`, [`super::fixed`]) keeps its
+    // coefficients; each effect's fit is an increment on what it stores.
+    let held = b == 0;
+    let mut model = if held {
+        base.clone()
+    } else {
+        with_coefficients(base, &force, torque.as_ref(), damping_floor)?
+    };
     let mut params = Vec::new();
     let mut wind = None;
     let mut at = 0;
     for c in design {
-        let v: Vec<f64> = u.get(at..at + c.width()).unwrap_or(&[]).to_vec();
+        let mut v: Vec<f64> = u.get(at..at + c.width()).unwrap_or(&[]).to_vec();
         at += c.width();
+        if let Some(old) = held.then(|| super::fixed::stored(base, *c)).flatten() {
+            v.iter_mut().zip(old).for_each(|(x, o)| *x += o);
+        }
         store(&mut model, *c, &v)?;
         if *c == Candidate::Wind {
             wind = Some(Vector3::new(v[0], v[1], v[2]));

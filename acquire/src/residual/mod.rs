@@ -21,6 +21,7 @@
 pub mod candidates;
 pub mod diagnose;
 pub mod extend;
+pub mod fixed;
 pub mod plots;
 pub(crate) mod problems;
 pub mod resimulate;
@@ -95,8 +96,13 @@ pub struct TruthError {
 /// The analysis.
 #[derive(Clone, Debug, Serialize)]
 pub struct Report {
-    /// The base model's held-out errors.
+    /// The base model's held-out errors (a given model, `--coeffs`: its
+    /// residual on every take, nothing of it being fitted).
     pub baseline: HeldOut,
+    /// Where the base model comes from: `fitted` (leave-one-take-out) or
+    /// `given` (`--coeffs`, held fixed; candidates' `params` are then
+    /// increments on what it stores).
+    pub baseline_model: &'static str,
     /// Every candidate as tried.
     pub candidates: Vec<CandidateReport>,
     /// Kept effects, strongest (first chosen) first.
@@ -105,6 +111,11 @@ pub struct Report {
     pub after: HeldOut,
     /// Re-simulation of the takes.
     pub resimulation: Option<Resimulation>,
+    /// The force RMS the reconstruction's own noise alone would leave, N:
+    /// `sqrt(mean tr Σ_F)` over the force frames, `Σ_F` the markers-only
+    /// smoother's covariance of the reconstructed force (eqs. 9-10). No
+    /// model can predict held-out takes much better than this.
+    pub noise_floor_force_rms: f64,
     /// C_F error against the truth, when the set has `truth/`.
     pub cf_error_vs_truth: Option<TruthError>,
     /// The selected wind (world frame, m/s).
@@ -132,16 +143,21 @@ pub struct Analysis {
     pub extended: Coefficients<f64>,
 }
 
-/// Runs the analysis of the set in `dir`.
+/// Runs the analysis of the set in `dir`; with `given` (checked by
+/// [`fixed::check`]) as the baseline instead of the fitted model.
 pub fn analyse(
     dir: &Path,
     set: &RecordingSet,
     cfg: &FitConfig,
+    given: Option<&Coefficients<f64>>,
     progress: &dyn Progress,
 ) -> Result<Analysis> {
     let mut base_cfg = cfg.clone();
     base_cfg.lsq.extensions = false;
-    let outcome = fit(set, &base_cfg, progress)?;
+    let mut outcome = fit(set, &base_cfg, progress)?;
+    if let Some(g) = given {
+        outcome.model = g.clone();
+    }
     let smoothing = outcome
         .iterations
         .iter()
@@ -165,9 +181,13 @@ pub fn analyse(
         &outcome.reconstruction,
         &ctx,
         &cols,
-        usize::from(cfg.degree),
+        usize::from(given.map_or(cfg.degree, |g| g.degree())),
         smoothing,
     );
+    let p = match given {
+        Some(g) => fixed::hold(p, g)?,
+        None => p,
+    };
     progress.tick();
     let sel = select::select(&p, rho, l, progress).ok_or_else(|| {
         Error::Data(format!(
@@ -212,6 +232,7 @@ pub fn analyse(
             heldout_force_rms: sel.baseline.force_rms,
             heldout_torque_rms: sel.baseline.torque_rms,
         },
+        baseline_model: if given.is_some() { "given" } else { "fitted" },
         candidates,
         selected: sel.selected.iter().map(|c| c.name().to_owned()).collect(),
         after: HeldOut {
@@ -219,6 +240,7 @@ pub fn analyse(
             heldout_torque_rms: sel.after.torque_rms,
         },
         resimulation,
+        noise_floor_force_rms: noise_floor(&p.force_samples),
         cf_error_vs_truth,
         wind: ext.wind.map(|w| [w.x, w.y, w.z]),
         diagnosis,
@@ -233,6 +255,12 @@ pub fn analyse(
         base: outcome.model,
         extended: ext.model,
     })
+}
+
+/// `sqrt(mean tr Σ_F)` of `samples`, N (see [`Report::noise_floor_force_rms`]).
+fn noise_floor(samples: &[crate::reconstruct::forces::Sample]) -> f64 {
+    let n = samples.len().max(1) as f64;
+    (samples.iter().map(|s| s.force_cov.trace()).sum::<f64>() / n).sqrt()
 }
 
 /// C_F error of both models against `dir/truth/coefficients.csv`, over

@@ -11,6 +11,7 @@
 
 pub mod effects;
 pub(crate) mod rng;
+pub mod strength;
 pub mod taira;
 pub mod truth;
 pub mod write;

@@ -36,8 +36,11 @@ fn v3(v: &Vector3<f64>) -> String {
     format!("[{}, {}, {}]", v.x, v.y, v.z)
 }
 
-/// Generates the set into `out` (created if needed).
-pub fn generate(out: &Path, cfg: &SynthConfig) -> Result<()> {
+/// Generates the set into `out` (created if needed). Returns each effect's
+/// name (as given) and measured strength, `RMS|F_effect| / RMS|F_aero|`
+/// over the generated frames ([`crate::synth::strength`]), also written to
+/// `truth/model.toml`'s `[force_fraction]`.
+pub fn generate(out: &Path, cfg: &SynthConfig) -> Result<Vec<(String, f64)>> {
     let truth_dir = out.join("truth");
     std::fs::create_dir_all(&truth_dir).map_err(|e| Error::io(&truth_dir, e))?;
     let spec = ObjectSpec::of(cfg.object);
@@ -68,6 +71,7 @@ pub fn generate(out: &Path, cfg: &SynthConfig) -> Result<()> {
     let mut jumps = Rng::new(cfg.seed ^ 0x0u64.wrapping_sub(1));
     let mut toml = header(&spec, &inertia, &markers, &camera, cfg.noise);
     let count = cfg.takes.0 + cfg.takes.1;
+    let mut strength = crate::synth::strength::Strength::default();
     for i in 0..count {
         let spin = i >= cfg.takes.0;
         let name = format!("{}-{:02}", if spin { "spin" } else { "drop" }, i + 1);
@@ -79,6 +83,7 @@ pub fn generate(out: &Path, cfg: &SynthConfig) -> Result<()> {
             camera.fps,
             400,
         );
+        strength.add(&forces, &states, camera.fps);
         let first = states
             .first()
             .copied()
@@ -115,19 +120,28 @@ pub fn generate(out: &Path, cfg: &SynthConfig) -> Result<()> {
         &truth_dir.join("coefficients.csv"),
         &coefficients_csv(&model),
     )?;
+    let fractions = strength.fractions();
     write(
         &truth_dir.join("model.toml"),
-        &truth_toml(&model, cfg, &effects),
-    )
+        &truth_toml(&model, cfg, &effects, &fractions),
+    )?;
+    Ok(cfg
+        .effects
+        .iter()
+        .map(|e| e.name.clone())
+        .zip(fractions)
+        .collect())
 }
 
 /// `truth/model.toml`: the generating model's constants, the wind, and
-/// each effect's SCALE (`[effects]`, as given) and parameters
-/// (`[parameters]`, the core's order, e.g. buoyancy's V_b in m³).
+/// each effect's SCALE (`[effects]`, as given), parameters
+/// (`[parameters]`, the core's order, e.g. buoyancy's V_b in m³) and
+/// measured strength (`[force_fraction]`, `RMS|F_effect| / RMS|F_aero|`).
 fn truth_toml(
     model: &omniad_core::Coefficients<f64>,
     cfg: &SynthConfig,
     effects: &[omniad_core::effect::Effect<f64>],
+    fractions: &[f64],
 ) -> String {
     let d = model.damping();
     let mut s = format!(
@@ -151,6 +165,10 @@ fn truth_toml(
             .map(|v| v.to_string())
             .collect();
         let _ = writeln!(s, "{} = [{}]", e.kind.name(), p.join(", "));
+    }
+    s.push_str("[force_fraction]\n");
+    for (e, f) in cfg.effects.iter().zip(fractions) {
+        let _ = writeln!(s, "{} = {f:.4}", e.name);
     }
     s
 }

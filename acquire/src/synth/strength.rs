@@ -1,0 +1,103 @@
+//! How strong a synthetic set's effects are in physical terms (issue 15
+//! item 8): per effect, `RMS|F_effect| / RMS|F_aero|` over every generated
+//! frame of every take, `F_aero` the OmniAD model's force (eqs. 5, 7, body
+//! frame, N) and `F_effect` the effect's force (the core's
+//! [`omniad_core::effect::Effect::wrench`], body frame, N). The issue's
+//! "realistic strength" is a fraction of 0.15-0.5.
+//!
+//! Added mass: its force `-M_a dU/dt - Ω × (M_a U)` needs `dU/dt`, the rate
+//! of the body-frame air velocity, taken here by central differences of
+//! the frames (one-sided at the ends).
+
+use crate::synth::SynthForces;
+use nalgebra::Vector3;
+use omniad_core::effect::EffectInputs;
+use omniad_core::rigid_body::Forces;
+use omniad_core::State;
+
+/// Sums of squared force magnitudes over frames.
+#[derive(Clone, Debug, Default)]
+pub struct Strength {
+    /// Σ|F_aero|², N².
+    aero: f64,
+    /// Σ|F_effect|² per effect (the set's order), N².
+    effects: Vec<f64>,
+}
+
+impl Strength {
+    /// Adds the frames `states` (at `fps`) of one take.
+    pub fn add(&mut self, forces: &SynthForces<'_>, states: &[State<f64>], fps: f64) {
+        self.effects.resize(forces.effects.len(), 0.0);
+        let env = &forces.air.environment;
+        let air = |s: &State<f64>| s.air_velocity_body(&env.wind);
+        for (k, s) in states.iter().enumerate() {
+            let aero = forces.air.wrench(k as f64 / fps, s).force;
+            self.aero += aero.norm_squared();
+            let (a, b) = (k.saturating_sub(1), (k + 1).min(states.len() - 1));
+            let rate = match (states.get(a), states.get(b)) {
+                (Some(p), Some(n)) if b > a => (air(n) - air(p)) * (fps / (b - a) as f64),
+                _ => Vector3::zeros(),
+            };
+            let inputs = EffectInputs {
+                velocity: air(s),
+                angular_velocity: s.angular_velocity,
+                gravity: s.orientation.inverse_transform_vector(&env.gravity),
+                velocity_rate: rate,
+                air_density: env.air_density,
+                reference_length: forces.air.model.reference_length(),
+            };
+            for (sum, e) in self.effects.iter_mut().zip(forces.effects) {
+                *sum += e.wrench(&inputs).force.norm_squared();
+            }
+        }
+    }
+
+    /// `RMS|F_effect| / RMS|F_aero|` per effect (NaN without aerodynamic
+    /// force).
+    pub fn fractions(&self) -> Vec<f64> {
+        self.effects
+            .iter()
+            .map(|e| {
+                if self.aero > 0.0 {
+                    (e / self.aero).sqrt()
+                } else {
+                    f64::NAN
+                }
+            })
+            .collect()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::synth::write::generate;
+    use crate::synth::{Effect, SynthConfig, SynthObject};
+
+    /// The fraction a set of `effect` gets, as returned and as written.
+    fn fraction(effect: &str) -> (f64, String) {
+        let dir = tempfile::tempdir().expect("tempdir");
+        let cfg = SynthConfig {
+            object: SynthObject::Plate,
+            effects: vec![Effect::parse(effect).expect("effect")],
+            takes: (2, 1),
+            ..SynthConfig::default()
+        };
+        let got = generate(dir.path(), &cfg).expect("synth");
+        let toml = std::fs::read_to_string(dir.path().join("truth/model.toml")).expect("truth");
+        (got.first().map_or(f64::NAN, |g| g.1), toml)
+    }
+
+    #[test]
+    fn force_fraction_is_written_and_linear_in_a_weak_scale() {
+        // Weak enough not to change the trajectories much: the effect's
+        // force doubles, the aerodynamic force stays.
+        let (one, toml) = fraction("linear_drag=50");
+        let (two, _) = fraction("linear_drag=100");
+        assert!(one > 0.005 && one < 0.1, "fraction {one}");
+        assert!(
+            toml.contains(&format!("[force_fraction]\nlinear_drag = {one:.4}")),
+            "{toml}"
+        );
+        assert!((two / one - 2.0).abs() < 0.1, "{one} -> {two}");
+    }
+}
