@@ -1,0 +1,123 @@
+//! The batch's SH sums for f32 on AVX registers ([`crate::batch`]): eight
+//! bodies, one per lane, `Σ_k rows[k] Y_k(e)` for the six sets.
+//!
+//! Why its own code: the batch's generic lanes ([`crate::sh::walk_values`]
+//! over `Lanes<f32>`, arrays of eight scalars) compile to scalar
+//! accumulators that are taken apart and put back together around every
+//! term (profiled: about 100 shuffles per coefficient row), which cost
+//! more than the arithmetic. Here every value is one `__m256` register.
+//!
+//! Every step is the portable walk's scalar operation, in the same order,
+//! as one separate vector multiply, add or subtract (never a fused
+//! multiply-add), so each lane is *bit for bit* what
+//! [`crate::sh::accumulate`] gives for that lane's direction
+//! (`core/tests/batch.rs` compares them).
+
+use crate::lanes::{Lanes, SETS};
+use crate::sh::{coeff_count, MAX_DEGREE, WALK_F32};
+use core::arch::x86_64::{
+    __m256, _mm256_add_ps, _mm256_load_ps, _mm256_mul_ps, _mm256_set1_ps, _mm256_setzero_ps,
+    _mm256_store_ps, _mm256_sub_ps,
+};
+
+/// The six sums and the rows still to weight.
+struct Sums<'a> {
+    acc: [__m256; SETS],
+    rows: core::slice::Iter<'a, [f32; SETS]>,
+}
+
+impl Sums<'_> {
+    /// `acc[s] += row[s] y` for the next row: the portable `*a += w * y`.
+    #[target_feature(enable = "avx")]
+    #[inline]
+    fn emit(&mut self, y: __m256) {
+        if let Some(row) = self.rows.next() {
+            for (a, &w) in self.acc.iter_mut().zip(row) {
+                *a = _mm256_add_ps(*a, _mm256_mul_ps(_mm256_set1_ps(w), y));
+            }
+        }
+    }
+}
+
+/// `a (z q1 - b q2)`: one step of the three-term recurrence in `l`.
+#[target_feature(enable = "avx")]
+#[inline]
+fn step(a: f32, b: f32, z: __m256, q1: __m256, q2: __m256) -> __m256 {
+    let zq = _mm256_mul_ps(z, q1);
+    let bq = _mm256_mul_ps(_mm256_set1_ps(b), q2);
+    _mm256_mul_ps(_mm256_set1_ps(a), _mm256_sub_ps(zq, bq))
+}
+
+#[target_feature(enable = "avx")]
+#[inline]
+fn load(v: &Lanes<f32>) -> __m256 {
+    // SAFETY: `Lanes<f32>` is 32-byte aligned and holds eight f32.
+    unsafe { _mm256_load_ps(v.0.as_ptr()) }
+}
+
+/// [`crate::sh::walk_values`] with `emit` weighting `rows` (walk order),
+/// for unit directions `[x, y, z]` one per lane. `None` when `rows` is
+/// shorter than the degree's count (the generic lanes then handle it).
+#[target_feature(enable = "avx")]
+#[inline]
+pub(crate) fn batch_sums(
+    degree: usize,
+    rows: &[[f32; SETS]],
+    [x, y, z]: &[Lanes<f32>; 3],
+) -> Option<[Lanes<f32>; SETS]> {
+    let degree = degree.min(MAX_DEGREE);
+    if rows.len() < coeff_count(degree) {
+        return None;
+    }
+    let (x, y, z) = (load(x), load(y), load(z));
+    let t = &WALK_F32;
+    let k = _mm256_set1_ps;
+    let mut sums = Sums {
+        acc: [_mm256_setzero_ps(); SETS],
+        rows: rows.iter(),
+    };
+    let [y00, sqrt3, sqrt2] = t.y00_sqrt3_sqrt2;
+    // m = 0: zonal harmonics.
+    let mut q_mm = k(y00);
+    sums.emit(q_mm);
+    if degree >= 1 {
+        let (mut q2, mut q1) = (q_mm, _mm256_mul_ps(_mm256_mul_ps(k(sqrt3), z), q_mm));
+        sums.emit(q1);
+        for &(a, b) in t.ab_run(0, degree) {
+            let q = step(a, b, z, q1, q2);
+            sums.emit(q);
+            (q2, q1) = (q1, q);
+        }
+    }
+    // m >= 1: (C_m, S_m) = (x + iy)^m carry the longitude.
+    let (mut c, mut s) = (k(1.0), k(0.0));
+    for m in 1..=degree {
+        let (c_prev, s_prev) = (c, s);
+        c = _mm256_sub_ps(_mm256_mul_ps(x, c_prev), _mm256_mul_ps(y, s_prev));
+        s = _mm256_add_ps(_mm256_mul_ps(x, s_prev), _mm256_mul_ps(y, c_prev));
+        q_mm = _mm256_mul_ps(q_mm, k(t.diag.get(m).copied().unwrap_or(0.0)));
+        let (cm, sm) = (_mm256_mul_ps(k(sqrt2), c), _mm256_mul_ps(k(sqrt2), s));
+        sums.emit(_mm256_mul_ps(q_mm, cm));
+        sums.emit(_mm256_mul_ps(q_mm, sm));
+        if m == degree {
+            break;
+        }
+        let sub = k(t.sub.get(m).copied().unwrap_or(0.0));
+        let mut q2 = q_mm;
+        let mut q1 = _mm256_mul_ps(_mm256_mul_ps(sub, z), q_mm);
+        sums.emit(_mm256_mul_ps(q1, cm));
+        sums.emit(_mm256_mul_ps(q1, sm));
+        for &(a, b) in t.ab_run(m, degree) {
+            let q = step(a, b, z, q1, q2);
+            sums.emit(_mm256_mul_ps(q, cm));
+            sums.emit(_mm256_mul_ps(q, sm));
+            (q2, q1) = (q1, q);
+        }
+    }
+    let mut out = [Lanes([0.0f32; 8]); SETS];
+    for (o, a) in out.iter_mut().zip(sums.acc) {
+        // SAFETY: `Lanes<f32>` is 32-byte aligned and holds eight f32.
+        unsafe { _mm256_store_ps(o.0.as_mut_ptr(), a) };
+    }
+    Some(out)
+}
