@@ -52,7 +52,10 @@ fn time_batch<T: LaneScalar>(m: &Coefficients<T>, batches: usize) -> (f64, f64) 
     let lanes = |base: [f64; 3], step: f64| {
         base.map(|b| Lanes(std::array::from_fn(|i| T::of_f64(b + step * i as f64))))
     };
-    let (v, w) = (lanes([0.3, -1.2, -3.1], 0.05), lanes([0.5, 0.1, -0.7], 0.02));
+    let (v, w) = (
+        lanes([0.3, -1.2, -3.1], 0.05),
+        lanes([0.5, 0.1, -0.7], 0.02),
+    );
     let mut per_body: Vec<f64> = (0..batches)
         .map(|_| {
             let start = Instant::now();
@@ -75,8 +78,14 @@ fn main() {
         ("f32", time(&model::<f32>(false), batches)),
         ("f32_portable", time(&model::<f32>(true), batches)),
         ("f64", time(&model::<f64>(false), batches)),
-        ("f32_batch_per_body", time_batch(&model::<f32>(false), batches)),
-        ("f64_batch_per_body", time_batch(&model::<f64>(false), batches)),
+        (
+            "f32_batch_per_body",
+            time_batch(&model::<f32>(false), batches),
+        ),
+        (
+            "f64_batch_per_body",
+            time_batch(&model::<f64>(false), batches),
+        ),
     ];
     let body: Vec<String> = rows
         .iter()

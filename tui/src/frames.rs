@@ -138,6 +138,10 @@ mod tests {
         assert!(t.json().contains("\"bodies\": 64"));
         // The warm-up frame and the timed ones each advanced the bodies.
         let per_frame = crate::sim::world::STEPS_PER_FRAME as f64 * crate::sim::world::DT;
-        assert!((t.simulated_s - 4.0 * per_frame).abs() < 1e-9, "{}", t.simulated_s);
+        assert!(
+            (t.simulated_s - 4.0 * per_frame).abs() < 1e-9,
+            "{}",
+            t.simulated_s
+        );
     }
 }

@@ -23,11 +23,11 @@
 
 use crate::lanes::{Lanes, SETS};
 use crate::sh::{coeff_count, MAX_COEFFS, MAX_DEGREE, WALK_F32};
-use core::mem::MaybeUninit;
 use core::arch::x86_64::{
     __m256, _mm256_add_ps, _mm256_load_ps, _mm256_mul_ps, _mm256_set1_ps, _mm256_setzero_ps,
     _mm256_store_ps, _mm256_sub_ps,
 };
+use core::mem::MaybeUninit;
 
 /// The harmonics of one walk, in walk order: written by the recurrence,
 /// then read by the weighting (two passes, see [`batch_sums`]).
