@@ -21,11 +21,12 @@
 //! [`crate::sh::accumulate`] gives for that lane's direction
 //! (`core/tests/batch.rs` compares them).
 
+use super::load;
 use crate::lanes::{Lanes, SETS};
 use crate::sh::{coeff_count, MAX_COEFFS, MAX_DEGREE, WALK_F32};
 use core::arch::x86_64::{
-    __m256, _mm256_add_ps, _mm256_load_ps, _mm256_mul_ps, _mm256_set1_ps, _mm256_setzero_ps,
-    _mm256_store_ps, _mm256_sub_ps,
+    __m256, _mm256_add_ps, _mm256_mul_ps, _mm256_set1_ps, _mm256_setzero_ps, _mm256_store_ps,
+    _mm256_sub_ps,
 };
 use core::mem::MaybeUninit;
 
@@ -55,13 +56,6 @@ fn step(a: f32, b: f32, z: __m256, q1: __m256, q2: __m256) -> __m256 {
     let zq = _mm256_mul_ps(z, q1);
     let bq = _mm256_mul_ps(_mm256_set1_ps(b), q2);
     _mm256_mul_ps(_mm256_set1_ps(a), _mm256_sub_ps(zq, bq))
-}
-
-#[target_feature(enable = "avx")]
-#[inline]
-fn load(v: &Lanes<f32>) -> __m256 {
-    // SAFETY: `Lanes<f32>` is 32-byte aligned and holds eight f32.
-    unsafe { _mm256_load_ps(v.0.as_ptr()) }
 }
 
 /// [`crate::sh::walk_values`] with `emit` weighting `rows` (walk order),
