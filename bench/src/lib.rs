@@ -8,6 +8,8 @@
 //!   second on one thread and on all cores;
 //! * [`fit`]: `omniad fit` of a 13-take synthetic set generated at bench
 //!   time (fixed seed) into a temporary folder;
+//! * the TUI's simulation view, frame by frame, headless
+//!   ([`omniad_tui::frames`]): physics and drawing of 12,800 bodies;
 //! * [`peer`]: MuJoCo's ellipsoid fluid model on 1,000 plates, by
 //!   `scripts/mujoco_peer.py`, when Python has `mujoco`.
 //!
@@ -40,6 +42,8 @@ pub struct Report {
     pub fit_seconds: Result<f64, String>,
     /// MuJoCo's figure measured in this run (or why not).
     pub peer: Result<peer::Peer, String>,
+    /// The TUI's simulation view, per frame (or why not measured).
+    pub tui: Result<omniad_tui::frames::FrameTiming, String>,
 }
 
 /// Runs the suite; `quick` shortens every measurement (and the fit to one
@@ -48,9 +52,15 @@ pub fn run(quick: bool) -> Report {
     let physics = physics::measure(quick);
     let fit_seconds = fit::measure();
     let peer = peer::measure(quick);
+    let mut frames = omniad_tui::frames::FrameBench::default();
+    if quick {
+        frames.frames = 15;
+    }
+    let tui = omniad_tui::frames::measure(frames);
     Report {
         physics,
         fit_seconds,
         peer,
+        tui,
     }
 }

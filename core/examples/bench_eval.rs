@@ -6,6 +6,7 @@
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
 use nalgebra::{Matrix3, Vector3};
+use omniad_core::lanes::{Lanes, LANES};
 use omniad_core::{Coefficients, LaneScalar};
 use std::hint::black_box;
 use std::time::Instant;
@@ -44,6 +45,30 @@ fn time<T: LaneScalar>(m: &Coefficients<T>, batches: usize) -> (f64, f64) {
     (per_eval[0], per_eval[per_eval.len() / 2])
 }
 
+/// (minimum, median) nanoseconds per body of the batch (eight bodies per
+/// call, one per lane).
+fn time_batch<T: LaneScalar>(m: &Coefficients<T>, batches: usize) -> (f64, f64) {
+    const PER_BATCH: usize = 250;
+    let lanes = |base: [f64; 3], step: f64| {
+        base.map(|b| Lanes(std::array::from_fn(|i| T::of_f64(b + step * i as f64))))
+    };
+    let (v, w) = (
+        lanes([0.3, -1.2, -3.1], 0.05),
+        lanes([0.5, 0.1, -0.7], 0.02),
+    );
+    let mut per_body: Vec<f64> = (0..batches)
+        .map(|_| {
+            let start = Instant::now();
+            for _ in 0..PER_BATCH {
+                black_box(m.wrench_lanes(black_box(&v), black_box(&w), T::of_f64(1.2)));
+            }
+            start.elapsed().as_secs_f64() * 1e9 / (PER_BATCH * LANES) as f64
+        })
+        .collect();
+    per_body.sort_by(f64::total_cmp);
+    (per_body[0], per_body[per_body.len() / 2])
+}
+
 fn main() {
     let batches: usize = std::env::args()
         .nth(1)
@@ -53,6 +78,14 @@ fn main() {
         ("f32", time(&model::<f32>(false), batches)),
         ("f32_portable", time(&model::<f32>(true), batches)),
         ("f64", time(&model::<f64>(false), batches)),
+        (
+            "f32_batch_per_body",
+            time_batch(&model::<f32>(false), batches),
+        ),
+        (
+            "f64_batch_per_body",
+            time_batch(&model::<f64>(false), batches),
+        ),
     ];
     let body: Vec<String> = rows
         .iter()

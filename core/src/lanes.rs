@@ -118,6 +118,19 @@ pub trait SimdCoefficients<T>: Clone + core::fmt::Debug + PartialEq {
     fn set(&mut self, l: usize, m: isize, set: usize, value: T);
     /// The six sums by the SIMD path, if this machine has one.
     fn accumulate(&self, degree: usize, dir: &Vector3<T>) -> Option<[T; SETS]>;
+    /// The batch's weighted sums ([`crate::batch`]): `Σ_k rows[k] Y_k(e)`
+    /// per lane (rows in walk order, one unit direction per lane), lane by
+    /// lane bit for bit as the portable walk ([`crate::sh::accumulate`])
+    /// computes them, on this path's vector registers; `None` where it has
+    /// none (the batch's generic lanes then run).
+    #[inline(always)]
+    fn lane_sums(
+        _degree: usize,
+        _rows: &[[T; SETS]],
+        _e: &[Lanes<T>; 3],
+    ) -> Option<[Lanes<T>; SETS]> {
+        None
+    }
     /// Runs `kernel` compiled for this path's SIMD features when the
     /// machine has them. Rust never fuses a multiply and an add on its own,
     /// so code outside the SIMD kernel rounds exactly as elsewhere.

@@ -200,11 +200,21 @@ pub struct WalkTables<T> {
     /// `(a_lm, b_lm)` in walk order ([`WALK_AB`] layout).
     ab: [(T, T); MAX_COEFFS],
     /// `q_m^m / q_{m-1}^{m-1}`.
-    diag: [T; MAX_DEGREE + 1],
+    pub(crate) diag: [T; MAX_DEGREE + 1],
     /// `q_{m+1}^m / (z q_m^m)`.
-    sub: [T; MAX_DEGREE + 1],
+    pub(crate) sub: [T; MAX_DEGREE + 1],
     /// `Y_00`, `sqrt(3)`, `sqrt(2)`.
-    y00_sqrt3_sqrt2: [T; 3],
+    pub(crate) y00_sqrt3_sqrt2: [T; 3],
+}
+
+impl<T> WalkTables<T> {
+    /// Order `m`'s run of `(a_lm, b_lm)` for `l = m+2..=degree`.
+    #[inline(always)]
+    pub(crate) fn ab_run(&self, m: usize, degree: usize) -> &[(T, T)] {
+        let start = WALK_START.get(m).copied().unwrap_or(0);
+        let len = degree.saturating_sub(m + 1);
+        self.ab.get(start..start + len).unwrap_or(&[])
+    }
 }
 
 /// The walk's constants in f64.
@@ -335,11 +345,7 @@ pub(crate) fn walk_values<T: ShScalar, S: WalkValue<T>>(
 ) {
     let degree = degree.min(MAX_DEGREE);
     let t = T::walk_tables();
-    let ab = |m: usize| {
-        let start = WALK_START.get(m).copied().unwrap_or(0);
-        let len = degree.saturating_sub(m + 1);
-        t.ab.get(start..start + len).unwrap_or(&[])
-    };
+    let ab = |m: usize| t.ab_run(m, degree);
     let k = S::splat;
     let [y00, sqrt3, sqrt2] = t.y00_sqrt3_sqrt2;
     // m = 0: zonal harmonics.

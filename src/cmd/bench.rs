@@ -41,6 +41,19 @@ fn report(r: &Report) -> Value {
         }),
         Err(_) => Value::Null,
     };
+    let tui = match &r.tui {
+        Ok(t) => json!({
+            "bodies": t.bench.bodies,
+            "frames": t.bench.frames,
+            "terminal": format!("{}x{}", t.bench.size.0, t.bench.size.1),
+            "physics_ms": t.physics_ms,
+            "draw_ms": t.draw_ms,
+            "frame_ms": t.frame_ms,
+            "worst_frame_ms": t.worst_frame_ms,
+            "fps": t.fps(),
+        }),
+        Err(_) => Value::Null,
+    };
     json!({
         "eval_single_ns": p.eval_single_ns,
         "eval_batch_ns": p.eval_batch_ns,
@@ -57,6 +70,8 @@ fn report(r: &Report) -> Value {
         "fit_set": "13 takes (omniad synth plate, 8 drops + 5 spins, seed 1) generated to a temporary folder at bench time",
         "peer": peer,
         "peer_reason": r.peer.as_ref().err(),
+        "tui": tui,
+        "tui_error": r.tui.as_ref().err(),
         "paper": {"eval_ns": paper::EVAL_NS, "bodies_realtime": paper::BODIES_REALTIME, "fit_seconds": paper::FIT_SECONDS},
     })
 }
@@ -118,6 +133,20 @@ fn summary(r: &Report) {
             p.body_steps_per_second_per_thread / m.body_steps_per_second
         ),
         Err(e) => println!("MuJoCo peer: not measured ({e})"),
+    }
+    match &r.tui {
+        Ok(t) => println!(
+            "TUI simulation view, {} bodies, {}x{} cells: {:.1} ms/frame (physics {:.1}, drawing {:.1}; worst {:.1}) = {:.0} fps",
+            t.bench.bodies,
+            t.bench.size.0,
+            t.bench.size.1,
+            t.frame_ms,
+            t.physics_ms,
+            t.draw_ms,
+            t.worst_frame_ms,
+            t.fps()
+        ),
+        Err(e) => println!("TUI frames: not measured ({e})"),
     }
     println!("* the paper: 1,000 bodies at about 30 fps including rendering (its step rate is not given)");
 }

@@ -47,6 +47,7 @@ pub fn run(args: &TuiArgs) -> Result<()> {
             .telemetry
             .as_ref()
             .map(|p| p.to_string_lossy().into_owned()),
+        bench: None,
     };
     omniad_tui::run(&options).map_err(|e| anyhow!(e))
 }

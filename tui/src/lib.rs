@@ -9,6 +9,7 @@
 
 pub mod app;
 pub mod event;
+pub mod frames;
 pub mod help;
 pub mod kite;
 pub mod models;
@@ -35,11 +36,14 @@ pub struct Options {
     /// kite) and saves to (default `kite.toml`); a file that does not
     /// load is shown as the error and never saved over.
     pub kite: Option<String>,
+    /// `--bench-frames N`: time N frames of the simulation view headless
+    /// ([`frames`]) and print JSON instead of opening the terminal.
+    pub bench: Option<frames::FrameBench>,
 }
 
 /// Usage text of the `omniad-tui` binary.
 pub const USAGE: &str =
-    "usage: omniad-tui [--no-mouse] [--kite FILE.toml] [--telemetry LOG.csv] [FILE.omni [COMPARE.omni ...]]";
+    "usage: omniad-tui [--no-mouse] [--kite FILE.toml] [--telemetry LOG.csv] [FILE.omni [COMPARE.omni ...]]\n       omniad-tui --bench-frames N [--bodies B] [--size WxH]";
 
 /// Parses `omniad-tui` arguments.
 pub fn parse_args(args: &[String]) -> Result<Options, String> {
@@ -55,6 +59,9 @@ pub fn parse_args(args: &[String]) -> Result<Options, String> {
             "--telemetry" => {
                 o.telemetry = Some(it.next().ok_or("--telemetry needs a file")?.clone())
             }
+            "--bench-frames" => bench(&mut o).frames = number(it.next(), a)?,
+            "--bodies" => bench(&mut o).bodies = number(it.next(), a)?,
+            "--size" => bench(&mut o).size = size(it.next())?,
             "-h" | "--help" => return Err(USAGE.into()),
             s if s.starts_with('-') => return Err(format!("unknown option {s}\n{USAGE}")),
             s => o.files.push(s.to_string()),
@@ -63,8 +70,32 @@ pub fn parse_args(args: &[String]) -> Result<Options, String> {
     Ok(o)
 }
 
+/// The frame measurement's settings, started from the defaults.
+fn bench(o: &mut Options) -> &mut frames::FrameBench {
+    o.bench.get_or_insert_with(frames::FrameBench::default)
+}
+
+/// The number after `flag`.
+fn number(value: Option<&String>, flag: &str) -> Result<usize, String> {
+    value
+        .and_then(|v| v.parse().ok())
+        .ok_or(format!("{flag} needs a whole number\n{USAGE}"))
+}
+
+/// `WxH` in cells.
+fn size(value: Option<&String>) -> Result<(u16, u16), String> {
+    value
+        .and_then(|v| v.split_once('x'))
+        .and_then(|(w, h)| Some((w.parse().ok()?, h.parse().ok()?)))
+        .ok_or(format!("--size needs WxH, e.g. 160x48\n{USAGE}"))
+}
+
 /// Loads the models and runs the TUI until the user quits.
 pub fn run(options: &Options) -> Result<(), String> {
+    if let Some(bench) = options.bench {
+        println!("{}", frames::measure(bench)?.json());
+        return Ok(());
+    }
     let models = options
         .files
         .iter()

@@ -37,10 +37,10 @@ impl<T: Real> Lanes<T> {
         }
         out
     }
-    /// Square root per lane ([`Real::root`], correctly rounded).
+    /// Square root per lane ([`Real::root_each`], correctly rounded).
     #[inline(always)]
     pub fn root(self) -> Self {
-        self.map(T::root)
+        Self(T::root_each(self.0))
     }
     /// Lanes where `pick` holds from `self`, the rest from `other`.
     #[inline(always)]

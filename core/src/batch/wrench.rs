@@ -7,7 +7,7 @@ use super::vec::{add3, cross3, dot3, mat_vec, scale3, splat3, sub3, V3};
 use crate::basis::vector_basis;
 use crate::coefficients::Coefficients;
 use crate::effect::EffectInputs;
-use crate::lanes::{run_wide, LaneScalar, Lanes, SimdKernel, LANES, SETS};
+use crate::lanes::{run_wide, LaneScalar, Lanes, SimdCoefficients, SimdKernel, LANES, SETS};
 use crate::math::{lit, vector_is_finite, Real};
 use crate::sh::walk_values;
 use nalgebra::Vector3;
@@ -245,6 +245,9 @@ fn combine<T: Real>([b1, b2, b3]: &[V3<T>; 3], [a1, a2, a3]: [Lanes<T>; 3]) -> V
 /// `Σ_k rows[k] Y_k(e)` per lane: [`crate::sh::accumulate`] with lanes.
 #[inline(always)]
 fn sums<T: LaneScalar>(degree: usize, rows: &[[T; SETS]], e: &V3<T>) -> [Lanes<T>; SETS] {
+    if let Some(s) = T::Simd::lane_sums(degree, rows, e) {
+        return s;
+    }
     let mut acc = [Lanes::splat(T::zero()); SETS];
     let mut rows = rows.iter();
     walk_values(degree, *e, |y: Lanes<T>| {

@@ -6,6 +6,8 @@
 //! with `#[target_feature(enable = "avx,fma")]` and chosen at run time;
 //! without them the portable path runs.
 
+mod batch_walk;
+
 use super::{
     first_powers, group_ab, group_start, Lanes, SimdCoefficients, SimdKernel, BLOCKS, LANES,
     LANES_F32, SETS,
@@ -66,6 +68,19 @@ impl SimdCoefficients<f32> for LaneBlocks {
             unsafe { run_avx(kernel) }
         } else {
             kernel.run()
+        }
+    }
+    #[inline(always)]
+    fn lane_sums(
+        degree: usize,
+        rows: &[[f32; SETS]],
+        e: &[Lanes<f32>; 3],
+    ) -> Option<[Lanes<f32>; SETS]> {
+        if has_avx() {
+            // SAFETY: AVX support was just checked.
+            unsafe { batch_walk::batch_sums(degree, rows, e) }
+        } else {
+            None
         }
     }
     #[inline]
