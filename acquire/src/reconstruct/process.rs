@@ -1,7 +1,10 @@
 //! The filter's process model f(s) (§4.3, §5): one RK4 step of eqs. (1)-(2)
 //! with the OmniAD air model (eqs. 5-6) plus the random-walk bias wrench of
 //! [`FilterState`], its Jacobian in error-state coordinates, and the
-//! process noise.
+//! process noise. A model with added mass steps the equations of motion
+//! with the air's mass on the mass side
+//! ([`omniad_core::rigid_body::state_rate_with_added_mass`]); a wind in
+//! [`Process::environment`] makes the air velocity `Rᵀ(v - w)`.
 
 use crate::reconstruct::state::{boxminus, boxplus, Cov, Delta, FilterState, N};
 use nalgebra::{Matrix3, SMatrix, Vector3};
@@ -54,6 +57,15 @@ impl Forces<f64> for Biased<'_> {
             force: w.force + self.force,
             torque: w.torque + self.torque,
         }
+    }
+
+    /// The model's added mass M_a (kg, body frame), if it has one: the
+    /// RK4 step then solves `(M I + M_a) dU/dt = ...` (the bias is a force
+    /// like any other on the right-hand side).
+    fn added_mass(&self) -> Option<Matrix3<f64>> {
+        self.model
+            .effect(omniad_core::effect::EffectKind::AddedMass)
+            .and_then(|e| e.added_mass())
     }
 }
 
