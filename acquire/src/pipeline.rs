@@ -193,8 +193,10 @@ pub fn fit(set: &RecordingSet, cfg: &FitConfig, progress: &dyn Progress) -> Resu
     if cfg.iterations == 0 {
         return Err(Error::Data("at least one iteration is needed".into()));
     }
-    let base =
-        process_effects::with_added_mass(zero_model(&set.object, cfg.degree)?, cfg.added_mass.as_ref())?;
+    let base = process_effects::with_added_mass(
+        zero_model(&set.object, cfg.degree)?,
+        cfg.added_mass.as_ref(),
+    )?;
     let mut model = base.clone();
     let first = initial_noise(set);
     let mut noise = first;

@@ -93,9 +93,15 @@ pub fn reconstruct(
         let omega = cur.angular_velocity;
         let torque = object.inertia * (next.angular_velocity - prev.angular_velocity) / h
             + omega.cross(&(object.inertia * omega));
-        let velocity = cur.orientation.inverse_transform_vector(&(cur.velocity - wind));
-        let velocity_rate = (next.orientation.inverse_transform_vector(&(next.velocity - wind))
-            - prev.orientation.inverse_transform_vector(&(prev.velocity - wind)))
+        let velocity = cur
+            .orientation
+            .inverse_transform_vector(&(cur.velocity - wind));
+        let velocity_rate = (next
+            .orientation
+            .inverse_transform_vector(&(next.velocity - wind))
+            - prev
+                .orientation
+                .inverse_transform_vector(&(prev.velocity - wind)))
             / h;
         // Eq. (9) is linear in v_{k+1} - v_{k-1}: Σ_F = (M/h)² Rᵀ Σ_Δv R
         // (the orientation's own uncertainty is neglected).

@@ -219,8 +219,11 @@ mod tests {
         };
         let mut model = crate::fit::model::zero_model(&object, 2).expect("model");
         let m_zz = 0.02;
-        let am = Effect::new(EffectKind::AddedMass, &[0.002, 0.001, m_zz, 0.0005, 0.0, 0.0])
-            .expect("effect");
+        let am = Effect::new(
+            EffectKind::AddedMass,
+            &[0.002, 0.001, m_zz, 0.0005, 0.0, 0.0],
+        )
+        .expect("effect");
         model.set_effect(am).expect("added mass");
         let p = process(&model, f64::INFINITY);
         let dt = 0.01;

@@ -183,9 +183,15 @@ fn proposal(r: &Round, first: bool) -> StateEffects {
     let am = Candidate::Named(EffectKind::AddedMass);
     let kept = r
         .sel
-        .tried
+        .selected
         .iter()
-        .find(|t| t.candidate == am && t.rejected.is_none());
+        .position(|c| *c == am)
+        .and_then(|step| {
+            r.sel
+                .tried
+                .iter()
+                .find(|t| t.candidate == am && t.step == step)
+        });
     let added_mass = match kept {
         Some(t) => psd(&t.params),
         None if first => r
@@ -245,7 +251,12 @@ fn accelerate(
         };
         let dot = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(x, y)| x * y).sum::<f64>();
         let r = dot(d, p) / dot(p, p);
-        1.0 / (1.0 - if r.is_finite() { r.clamp(0.0, MAX_RATIO) } else { 0.0 })
+        1.0 / (1.0
+            - if r.is_finite() {
+                r.clamp(0.0, MAX_RATIO)
+            } else {
+                0.0
+            })
     };
     let mut out = *next;
     if let (Some(a), Some(b)) = (trial.wind, next.wind) {
