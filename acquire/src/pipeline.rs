@@ -2,6 +2,7 @@
 //! every take with the current model, reconstruct forces, fit, repeat.
 
 mod diagnose;
+mod process_effects;
 mod provenance;
 
 use crate::error::{Error, Result};
@@ -16,7 +17,7 @@ use crate::reconstruct::filter::{FilterConfig, FilterStats, Smoothed};
 use crate::reconstruct::first::{again, first, LeftOut};
 use crate::reconstruct::forces::{ForceStats, Sample};
 use crate::reconstruct::noise::{initial_noise, next_noise, ProcessNoise};
-use crate::reconstruct::run::{samples, Progress};
+use crate::reconstruct::run::{samples_in_wind, Progress};
 use crate::reconstruct::schedule::most_likely_bias_time;
 use omniad_core::Coefficients;
 use provenance::{fill_provenance, total_stats};
@@ -54,6 +55,11 @@ pub struct FitConfig {
     /// the floor at 0.02 all-relinearised runs were better on every set
     /// measured, see BENCHMARKS.md.)
     pub relinearised_iterations: usize,
+    /// The object's added mass M_a (symmetric positive semi-definite, kg,
+    /// body frame) for the process model, `None` normally: the residual
+    /// analysis's refit sets it (see `pipeline::process_effects`; the wind
+    /// is `filter.wind`).
+    pub added_mass: Option<nalgebra::Matrix3<f64>>,
 }
 
 impl Default for FitConfig {
@@ -66,6 +72,7 @@ impl Default for FitConfig {
             filter: FilterConfig::default(),
             noise_floor: 0.02,
             relinearised_iterations: usize::MAX,
+            added_mass: None,
         }
     }
 }
@@ -186,7 +193,10 @@ pub fn fit(set: &RecordingSet, cfg: &FitConfig, progress: &dyn Progress) -> Resu
     if cfg.iterations == 0 {
         return Err(Error::Data("at least one iteration is needed".into()));
     }
-    let base = zero_model(&set.object, cfg.degree)?;
+    let base = process_effects::with_added_mass(
+        zero_model(&set.object, cfg.degree)?,
+        cfg.added_mass.as_ref(),
+    )?;
     let mut model = base.clone();
     let first = initial_noise(set);
     let mut noise = first;
@@ -215,7 +225,8 @@ pub fn fit(set: &RecordingSet, cfg: &FitConfig, progress: &dyn Progress) -> Resu
         // errors correlate with anything, so it fits the paper's model only.
         let mut fit_cfg = cfg.clone();
         fit_cfg.lsq.extensions &= it > 0;
-        let (fitted, details) = match fit_samples_tested(&base, &frames, set, &fit_cfg) {
+        let net = process_effects::net_of_effects(&frames, &base, set.world.air_density);
+        let (fitted, details) = match fit_samples_tested(&base, &net, set, &fit_cfg) {
             Ok((m, d)) => (Some(m), d),
             Err(e) if iterations.is_empty() => {
                 return Err(diagnose::first_fit_failed(e, set, &smoothed, &frames))
@@ -226,7 +237,7 @@ pub fn fit(set: &RecordingSet, cfg: &FitConfig, progress: &dyn Progress) -> Resu
         let nan = (f64::NAN, f64::NAN);
         let res = fitted
             .as_ref()
-            .map(|m| frame_residuals(m, &frames, set.world.air_density));
+            .map(|m| frame_residuals(m, &net, set.world.air_density));
         let mut report = IterationReport {
             noise,
             filter: total_stats(&smoothed),
@@ -344,7 +355,7 @@ fn weighed_frames(
         .as_deref()
         .map(|first| with_markers_only_covariances(&smoothed, first));
     let source = weighed.as_deref().unwrap_or(&smoothed);
-    let mut frames = samples(set, source, &mut fstats);
+    let mut frames = samples_in_wind(set, source, &cfg.filter.wind, &mut fstats);
     // With a model, the velocity's error spreads the frame's residual
     // too (nothing in the first iteration: the zero model has no slope).
     add_velocity_spread(&mut frames, source, model, set.world.air_density);

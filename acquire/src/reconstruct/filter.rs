@@ -85,6 +85,10 @@ pub struct FilterConfig {
     /// Most sweeps linearised about the previous smoothed trajectory after
     /// the passes (see `filter::iterated`; default 3, 0 turns them off).
     pub relinearise: usize,
+    /// The recording's steady wind, world frame, m/s: the process model's
+    /// air moves with it (`V = Rᵀ(v - w)`, eqs. 5-6). Zero unless the
+    /// residual analysis found one (`residual::refit`).
+    pub wind: Vector3<f64>,
 }
 
 impl Default for FilterConfig {
@@ -101,6 +105,7 @@ impl Default for FilterConfig {
             passes: 2,
             mirror_window: MIRROR_WINDOW,
             relinearise: 3,
+            wind: Vector3::zeros(),
         }
     }
 }

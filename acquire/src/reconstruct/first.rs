@@ -87,7 +87,14 @@ fn trouble(set: &RecordingSet, take: usize, s: &Smoothed) -> Trouble {
         };
     };
     let mut stats = ForceStats::default();
-    let frames = forces::reconstruct(take, kind, s, &set.object, &set.world.gravity, &mut stats);
+    let frames = forces::reconstruct(
+        take,
+        kind,
+        s,
+        &set.object,
+        (&set.world.gravity, &nalgebra::Vector3::zeros()),
+        &mut stats,
+    );
     let f = frames.iter().map(|x| x.force.norm()).fold(0.0, f64::max) / force;
     let t = frames.iter().map(|x| x.torque.norm()).fold(0.0, f64::max) / torque;
     let finite = s.states.iter().all(|x| x.is_finite());

@@ -16,7 +16,8 @@ pub struct Sample {
     pub t: f64,
     /// The take's kind (K1 drops, K2 spins).
     pub kind: TakeKind,
-    /// Velocity relative to the air, body frame, m/s (`V* = Rᵀ v*`, no wind).
+    /// Velocity relative to the air, body frame, m/s (`V* = Rᵀ(v* - w)`,
+    /// `w` the recording's wind, zero unless the residual analysis found one).
     pub velocity: Vector3<f64>,
     /// Angular velocity Ω*, body frame, rad/s.
     pub angular_velocity: Vector3<f64>,
@@ -59,13 +60,14 @@ pub struct ForceStats {
 ///
 /// `F*_k = R_kᵀ { M (v_{k+1} - v_{k-1}) / (t_{k+1} - t_{k-1}) - M g }`,
 /// `T*_k = I (Ω_{k+1} - Ω_{k-1}) / (t_{k+1} - t_{k-1}) + Ω_k × I Ω_k`
-/// (the difference quotient is eq. 9-10's `/(2Δt)` for uniform frames).
+/// (the difference quotient is eq. 9-10's `/(2Δt)` for uniform frames);
+/// `(gravity, wind)` are world-frame m/s² and m/s.
 pub fn reconstruct(
     take: usize,
     kind: TakeKind,
     s: &Smoothed,
     object: &Object,
-    gravity: &Vector3<f64>,
+    (gravity, wind): (&Vector3<f64>, &Vector3<f64>),
     stats: &mut ForceStats,
 ) -> Vec<Sample> {
     let mut out = Vec::with_capacity(s.states.len());
@@ -91,9 +93,15 @@ pub fn reconstruct(
         let omega = cur.angular_velocity;
         let torque = object.inertia * (next.angular_velocity - prev.angular_velocity) / h
             + omega.cross(&(object.inertia * omega));
-        let velocity = cur.orientation.inverse_transform_vector(&cur.velocity);
-        let velocity_rate = (next.orientation.inverse_transform_vector(&next.velocity)
-            - prev.orientation.inverse_transform_vector(&prev.velocity))
+        let velocity = cur
+            .orientation
+            .inverse_transform_vector(&(cur.velocity - wind));
+        let velocity_rate = (next
+            .orientation
+            .inverse_transform_vector(&(next.velocity - wind))
+            - prev
+                .orientation
+                .inverse_transform_vector(&(prev.velocity - wind)))
             / h;
         // Eq. (9) is linear in v_{k+1} - v_{k-1}: Σ_F = (M/h)² Rᵀ Σ_Δv R
         // (the orientation's own uncertainty is neglected).

@@ -103,7 +103,10 @@ fn scaled_filter<'a>(
     }
     let process = Process {
         body,
-        environment: environment(set),
+        environment: Environment {
+            wind: config.wind,
+            ..environment(set)
+        },
         model,
         accel_noise: noise.accel,
         angular_accel_noise: noise.angular_accel,
@@ -182,8 +185,20 @@ pub fn refine_takes(
     .collect()
 }
 
-/// Eqs. (9)-(10) on every take.
+/// Eqs. (9)-(10) on every take (no wind).
 pub fn samples(set: &RecordingSet, smoothed: &[Smoothed], stats: &mut ForceStats) -> Vec<Sample> {
+    samples_in_wind(set, smoothed, &Vector3::zeros(), stats)
+}
+
+/// Eqs. (9)-(10) on every take of a recording whose air moved with the
+/// steady `wind` (world frame, m/s): the frames' velocities are relative
+/// to the air.
+pub fn samples_in_wind(
+    set: &RecordingSet,
+    smoothed: &[Smoothed],
+    wind: &Vector3<f64>,
+    stats: &mut ForceStats,
+) -> Vec<Sample> {
     let mut out = Vec::new();
     for (i, (take, s)) in set.takes.iter().zip(smoothed).enumerate() {
         out.extend(forces::reconstruct(
@@ -191,7 +206,7 @@ pub fn samples(set: &RecordingSet, smoothed: &[Smoothed], stats: &mut ForceStats
             take.kind,
             s,
             &set.object,
-            &set.world.gravity,
+            (&set.world.gravity, wind),
             stats,
         ));
     }

@@ -14,9 +14,10 @@
 //!    reconstruction ([`resimulate`]); the residual is diagnosed
 //!    ([`diagnose`]) and described in words ([`words`]).
 //!
-//! Limits: the states are not re-reconstructed with the effect in the
-//! process model (the refit is of the coefficients only); the wind is
-//! linearised about no wind (one Gauss-Newton step).
+//! 5. A wind or an added mass found changes the states themselves: it is
+//!    put into the reconstruction's process model and everything above
+//!    runs again on the new states until the selection settles
+//!    ([`refit`]).
 
 pub mod candidates;
 pub mod diagnose;
@@ -24,16 +25,15 @@ pub mod extend;
 pub mod fixed;
 pub mod plots;
 pub(crate) mod problems;
+pub mod refit;
 pub mod resimulate;
 pub mod select;
 pub mod words;
 
-use crate::error::{Error, Result};
-use crate::fit::context::FitContext;
+use crate::error::Result;
 use crate::input::recording::RecordingSet;
-use crate::pipeline::{fit, FitConfig};
+use crate::pipeline::FitConfig;
 use crate::reconstruct::run::Progress;
-use candidates::ColumnContext;
 use nalgebra::Vector3;
 use omniad_core::Coefficients;
 use serde::Serialize;
@@ -131,6 +131,8 @@ pub struct Report {
     /// Takes left out: their first reconstruction was implausible
     /// (`reconstruct::first`).
     pub left_out_takes: Vec<crate::reconstruct::first::LeftOut>,
+    /// The refit around a wind or an added mass ([`refit`]).
+    pub refit: refit::Refit,
 }
 
 /// The analysis and the models.
@@ -143,8 +145,13 @@ pub struct Analysis {
     pub extended: Coefficients<f64>,
 }
 
-/// Runs the analysis of the set in `dir`; with `given` (checked by
-/// [`fixed::check`]) as the baseline instead of the fitted model.
+/// Runs the analysis of the set in `dir`: the first round on states
+/// reconstructed without any effect, then the refits around a wind or an
+/// added mass it finds ([`refit`]). `baseline` is the first round's base
+/// model; `candidates`, `selected` and `after` are the final round's (the
+/// first round's when no refit confirmed an effect). With `given` (checked
+/// by [`fixed::check`]) that model is the baseline of every round instead
+/// of the fitted one.
 pub fn analyse(
     dir: &Path,
     set: &RecordingSet,
@@ -152,66 +159,32 @@ pub fn analyse(
     given: Option<&Coefficients<f64>>,
     progress: &dyn Progress,
 ) -> Result<Analysis> {
-    let mut base_cfg = cfg.clone();
-    base_cfg.lsq.extensions = false;
-    let mut outcome = fit(set, &base_cfg, progress)?;
-    if let Some(g) = given {
-        outcome.model = g.clone();
-    }
-    let smoothing = outcome
-        .iterations
-        .iter()
-        .rfind(|r| !r.rejected)
-        .and_then(|r| r.smoothing)
-        .ok_or_else(|| Error::Data("the base fit chose no smoothing".into()))?;
-    let (rho, l) = (set.world.air_density, set.object.reference_length);
-    let ctx = FitContext {
-        air_density: rho,
-        reference_length: l,
-        pole: set.object.pole,
-    };
-    let cols = ColumnContext {
-        air_density: rho,
-        reference_length: l,
-        model: &outcome.model,
-    };
-    progress.stage("residual: normal equations", 1);
-    let p = problems::build(
-        &outcome.samples,
-        &outcome.reconstruction,
-        &ctx,
-        &cols,
-        usize::from(given.map_or(cfg.degree, |g| g.degree())),
-        smoothing,
-    );
-    let p = match given {
-        Some(g) => fixed::hold(p, g)?,
-        None => p,
-    };
-    progress.tick();
-    let sel = select::select(&p, rho, l, progress).ok_or_else(|| {
-        Error::Data(format!(
-            "the residual analysis needs at least {} takes with usable frames",
-            crate::fit::select::MIN_TAKES
-        ))
-    })?;
-    let ext = extend::extend(&p, &outcome.model, &sel.selected, cfg.lsq.damping_floor)?;
-    let diagnosis = diagnose::diagnose(&p, &sel.baseline.residuals);
+    let rounds = refit::run(set, cfg, given, progress)?;
+    let first = &rounds.first;
+    let last = rounds.last.as_ref().unwrap_or(first);
+    let (selected, params) = refit::selection(&rounds, last);
+    let diagnosis = diagnose::diagnose(&first.p, &first.sel.baseline.residuals);
     let resimulation = resimulate::position_rms(
         set,
-        &outcome.reconstruction,
-        &outcome.model,
+        &first.outcome.reconstruction,
+        &first.outcome.model,
         Vector3::zeros(),
     )
     .zip(resimulate::position_rms(
         set,
-        &outcome.reconstruction,
-        &ext.model,
-        ext.wind.unwrap_or_else(Vector3::zeros),
+        &last.outcome.reconstruction,
+        &last.ext.model,
+        rounds.wind.unwrap_or_else(Vector3::zeros),
     ))
     .map(|(base_m, extended_m)| Resimulation { base_m, extended_m });
-    let cf_error_vs_truth = truth_error(dir, &outcome.model, &ext.model, &outcome.samples);
-    let candidates: Vec<CandidateReport> = sel
+    let cf_error_vs_truth = truth_error(
+        dir,
+        &first.outcome.model,
+        &last.ext.model,
+        &last.outcome.samples,
+    );
+    let candidates: Vec<CandidateReport> = last
+        .sel
         .tried
         .iter()
         .map(|t| CandidateReport {
@@ -229,31 +202,33 @@ pub fn analyse(
         .collect();
     let mut report = Report {
         baseline: HeldOut {
-            heldout_force_rms: sel.baseline.force_rms,
-            heldout_torque_rms: sel.baseline.torque_rms,
+            heldout_force_rms: first.sel.baseline.force_rms,
+            heldout_torque_rms: first.sel.baseline.torque_rms,
         },
         baseline_model: if given.is_some() { "given" } else { "fitted" },
         candidates,
-        selected: sel.selected.iter().map(|c| c.name().to_owned()).collect(),
+        selected,
         after: HeldOut {
-            heldout_force_rms: sel.after.force_rms,
-            heldout_torque_rms: sel.after.torque_rms,
+            heldout_force_rms: last.sel.after.force_rms,
+            heldout_torque_rms: last.sel.after.torque_rms,
         },
         resimulation,
-        noise_floor_force_rms: noise_floor(&p.force_samples),
+        noise_floor_force_rms: noise_floor(&first.p.force_samples),
         cf_error_vs_truth,
-        wind: ext.wind.map(|w| [w.x, w.y, w.z]),
+        wind: rounds.wind.map(|w| [w.x, w.y, w.z]),
         diagnosis,
         words: Vec::new(),
-        frames: p.force.frames.len(),
-        takes: p.force.takes.len(),
-        left_out_takes: outcome.left_out.clone(),
+        frames: last.p.force.frames.len(),
+        takes: last.p.force.takes.len(),
+        left_out_takes: last.outcome.left_out.clone(),
+        refit: rounds.refit.clone(),
     };
-    report.words = words::describe(&report, &ext.params);
+    report.words = words::describe(&report, &params);
+    report.words.extend(refit::describe(&report.refit));
     Ok(Analysis {
         report,
-        base: outcome.model,
-        extended: ext.model,
+        base: first.outcome.model.clone(),
+        extended: last.ext.model.clone(),
     })
 }
 
