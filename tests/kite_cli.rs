@@ -285,6 +285,13 @@ fn optimise_writes_a_loadable_kite_and_reports_changes() {
     assert!(v["changes"].is_array());
     let (b, a) = (&v["before"]["objective"], &v["after"]["objective"]);
     assert!(a.as_f64() >= b.as_f64(), "{b} -> {a}");
+    // The result is flown on seeds 1-3 and the outcomes reported; a stable
+    // kite that flies (box-three-cell) stays one that flies.
+    let flights: Vec<&str> = v["flights"]
+        .as_array()
+        .map(|f| f.iter().filter_map(|o| o.as_str()).collect())
+        .unwrap_or_default();
+    assert_eq!(flights, ["flies"; 3], "{v}");
     let out = omniad()
         .args(["kite", "check", "--json"])
         .arg(&out_file)
