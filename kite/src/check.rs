@@ -74,6 +74,12 @@ pub struct CheckReport {
     /// orientation.
     #[serde(rename = "static")]
     pub statics: StaticReport,
+    /// Parts of the frame not joined to the first primitive's piece
+    /// ([`crate::connect::unjoined`]); empty when the frame is one piece.
+    pub unjoined: Vec<String>,
+    /// Socket bores that run into each other ([`crate::sockets`]): a
+    /// fabrication warning, not part of the verdict.
+    pub socket_clashes: Vec<crate::sockets::Clash>,
     /// Primitive pairs overlapping along the wind.
     pub overlaps: Vec<[String; 2]>,
     /// The linearised tethered kite: equilibrium and modes.
@@ -181,7 +187,8 @@ pub fn check_at(
         .into_iter()
         .map(|(a, b)| [a, b])
         .collect();
-    let (equilibrium, modes) = if overlaps.is_empty() && eq.pulls_down {
+    let unjoined = crate::connect::unjoined(&design.spec);
+    let (equilibrium, modes) = if unjoined.is_empty() && overlaps.is_empty() && eq.pulls_down {
         crate::modes::analyse(design, wind)?
     } else {
         (None, ModesReport::none())
@@ -191,13 +198,33 @@ pub fn check_at(
         None => here.clone(),
     };
     let verdict = verdict(&Tests {
+        unjoined: unjoined.len(),
         overlaps: overlaps.len(),
         pulls_down: eq.pulls_down,
         equilibrium: equilibrium.is_some(),
         statically_stable: statics.stable,
         dynamically_stable: modes.stable,
     });
-    let mut reasons = reasons(eq.pulls_down, &overlaps, &statics, &modes);
+    let mut reasons = frame_reasons(design, &unjoined);
+    reasons.extend(reasons_after_frame(
+        unjoined.is_empty(),
+        eq.pulls_down,
+        &overlaps,
+        &statics,
+        &modes,
+    ));
+    let socket_clashes = crate::sockets::clashes(design);
+    if let Some(c) = socket_clashes.first() {
+        reasons.push(format!(
+            "{} pair(s) of socket bores clash (first: joint_{}, {} and {} at {:.1}°, at least {:.1}° needed); see the cut list",
+            socket_clashes.len(),
+            c.joint,
+            c.rods[0],
+            c.rods[1],
+            c.angle_deg,
+            c.min_angle_deg
+        ));
+    }
     if torque.norm() > 1e-3 {
         reasons.push(format!(
             "unbalanced torque {:.4} N m at the file's orientation (its part along the string cannot be cancelled by the attachment point): the kite turns to its equilibrium",
@@ -226,6 +253,8 @@ pub fn check_at(
         axes: here.axes,
         jacobian: here.jacobian,
         statics,
+        unjoined,
+        socket_clashes,
         overlaps,
         modes,
         verdict,
@@ -238,7 +267,24 @@ pub fn check(design: &Design, wind: Option<f64>) -> Result<CheckReport> {
     check_at(design, wind, &design.orientation(), None)
 }
 
-fn reasons(
+/// Why the frame is refused: the unjoined parts, named.
+fn frame_reasons(design: &Design, unjoined: &[String]) -> Vec<String> {
+    if unjoined.is_empty() {
+        return Vec::new();
+    }
+    let first = design
+        .spec
+        .primitives
+        .first()
+        .map_or(String::new(), |p| format!("{:?}", p.name));
+    vec![format!(
+        "the frame is not one piece: {} not joined to primitive {first} (join them with a [[rod]] from a corner or edge of one to a corner or edge of the other)",
+        unjoined.join(", ")
+    )]
+}
+
+fn reasons_after_frame(
+    joined: bool,
     pulls_down: bool,
     overlaps: &[[String; 2]],
     statics: &StaticReport,
@@ -250,7 +296,7 @@ fn reasons(
     }
     if !pulls_down {
         reasons.push("the string would have to pull upward (f_string · g <= 0)".into());
-    } else if overlaps.is_empty() && modes.equilibrium.is_none() {
+    } else if joined && overlaps.is_empty() && modes.equilibrium.is_none() {
         reasons.push("the kite on its line has no equilibrium near the file's orientation".into());
     }
     if !statics.stable {

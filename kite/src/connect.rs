@@ -9,7 +9,7 @@
 
 use crate::geometry::{corners, frame_rods, rotation_from_degrees};
 use crate::spec::{Kind, KiteSpec, PrimitiveSpec};
-use nalgebra::{Matrix3, Vector3};
+use nalgebra::{Matrix3, Rotation3, Vector3};
 
 /// How close a rod end must be to count as sitting on an edge, m: a
 /// socket's reach (the 2 mm rod in a socket a few mm deep).
@@ -39,8 +39,9 @@ fn holder(spec: &KiteSpec, point: &Vector3<f64>) -> Option<usize> {
     spec.primitives.iter().position(|p| touches(p, point))
 }
 
-/// Number of separate pieces of the frame (primitives and rods).
-pub fn pieces(spec: &KiteSpec) -> usize {
+/// The piece each part of the frame belongs to: one label per primitive
+/// (first) and per `[[rod]]` (after); equal labels are one rigid piece.
+fn piece_labels(spec: &KiteSpec) -> Vec<usize> {
     let n = spec.primitives.len();
     let mut parent: Vec<usize> = (0..n + spec.rods.len()).collect();
     fn root(p: &mut [usize], mut i: usize) -> usize {
@@ -78,7 +79,12 @@ pub fn pieces(spec: &KiteSpec) -> usize {
             }
         }
     }
-    let mut roots: Vec<usize> = (0..parent.len()).map(|i| root(&mut parent, i)).collect();
+    (0..parent.len()).map(|i| root(&mut parent, i)).collect()
+}
+
+/// Number of separate pieces of the frame (primitives and rods).
+pub fn pieces(spec: &KiteSpec) -> usize {
+    let mut roots = piece_labels(spec);
     roots.sort_unstable();
     roots.dedup();
     roots.len()
@@ -89,19 +95,39 @@ pub fn connected(spec: &KiteSpec) -> bool {
     pieces(spec) <= 1
 }
 
-/// Turns primitive `i` by `degrees` about the design frame's z axis
-/// through its centre (its `rotation.z` grows by `degrees`: rotations are
-/// about fixed axes, z last, so `Q' = R_z Q`), carrying along every
-/// `[[rod]]` end that sits on it, so rods stay in their sockets.
-pub fn turn_primitive(spec: &mut KiteSpec, i: usize, degrees: f64) {
+/// The parts not joined to the first primitive's piece, by name
+/// (`primitive "rear"`, `rod[3]`): what `kite check` names when it
+/// refuses a frame that would fall apart on the line.
+pub fn unjoined(spec: &KiteSpec) -> Vec<String> {
+    let labels = piece_labels(spec);
+    let Some(&main) = labels.first() else {
+        return Vec::new();
+    };
+    let n = spec.primitives.len();
+    labels
+        .iter()
+        .enumerate()
+        .filter(|(_, l)| **l != main)
+        .map(|(i, _)| match spec.primitives.get(i) {
+            Some(p) => format!("primitive {:?}", p.name),
+            None => format!("rod[{}]", i - n),
+        })
+        .collect()
+}
+
+/// Turns primitive `i` by `turn` about its centre and then shifts it by
+/// `shift` (design frame, m), carrying along every `[[rod]]` end that sits
+/// on it, so rods stay in their sockets (a rod joining it to another part
+/// stretches or swings with it). Rotations are about fixed axes, so the
+/// new `Q' = turn Q`, written back as x-y-z angles.
+pub fn move_primitive(spec: &mut KiteSpec, i: usize, turn: &Matrix3<f64>, shift: &Vector3<f64>) {
     let Some(p) = spec.primitives.get(i).cloned() else {
         return;
     };
-    let turn: Matrix3<f64> = rotation_from_degrees(&[0.0, 0.0, degrees]);
     let c = Vector3::from(p.position);
     let moved = |end: [f64; 3]| -> [f64; 3] {
         let v = Vector3::from(end);
-        (c + turn * (v - c)).into()
+        (c + shift + turn * (v - c)).into()
     };
     let ends: Vec<[bool; 2]> = spec
         .rods
@@ -117,6 +143,16 @@ pub fn turn_primitive(spec: &mut KiteSpec, i: usize, degrees: f64) {
         }
     }
     if let Some(q) = spec.primitives.get_mut(i) {
-        q.rotation[2] += degrees;
+        let r = Rotation3::from_matrix_unchecked(turn * rotation_from_degrees(&q.rotation));
+        let (x, y, z) = r.euler_angles();
+        q.rotation = [x.to_degrees(), y.to_degrees(), z.to_degrees()];
+        q.position = (c + shift).into();
     }
+}
+
+/// Turns primitive `i` by `degrees` about the design frame's z axis
+/// through its centre (see [`move_primitive`]).
+pub fn turn_primitive(spec: &mut KiteSpec, i: usize, degrees: f64) {
+    let turn = rotation_from_degrees(&[0.0, 0.0, degrees]);
+    move_primitive(spec, i, &turn, &Vector3::zeros());
 }

@@ -4,18 +4,12 @@
 
 use crate::assemble::Design;
 use crate::joints::Joint;
+use crate::sockets::{clashes, inset_mm, CLEARANCE_MM, DEPTH_MM, WALL_MM};
 use anyhow::{Context, Result};
 use nalgebra::Vector3;
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
 use std::path::Path;
-
-/// Socket wall thickness, mm.
-pub const WALL_MM: f64 = 1.2;
-/// Clearance between rod and bore (on the diameter), mm.
-pub const CLEARANCE_MM: f64 = 0.3;
-/// Depth of each rod bore, mm.
-pub const DEPTH_MM: f64 = 15.0;
 
 /// Writes `sockets.scad`, `cutlist.txt` and `drawing.svg` into `dir`;
 /// returns the paths written.
@@ -96,16 +90,19 @@ fn pair_angles(dirs: &[Vector3<f64>]) -> String {
     out.join(" ")
 }
 
-/// Cut list: rods grouped by length (mm) and diameter, coverings, totals.
+/// Cut list: rods grouped by cut length (mm: joint centre to joint
+/// centre minus the two socket insets, [`inset_mm`]) and diameter,
+/// coverings, totals, and any socket whose bores clash.
 pub fn cut_list(design: &Design) -> String {
     let mut s = format!(
-        "Cut list for kite {:?}\n\nRods (carbon):\n",
-        design.spec.name
+        "Cut list for kite {:?}\n\nRods (carbon), cut lengths: centre to centre minus {:.1} mm at each end for the socket's core:\n",
+        design.spec.name,
+        inset_mm(design.spec.materials.rod_diameter * 1e3)
     );
     let mut groups: BTreeMap<(i64, i64), Vec<&str>> = BTreeMap::new();
     for r in &design.rods {
         let key = (
-            (r.length() * 1e3).round() as i64,
+            cut_mm(r.length() * 1e3, r.diameter * 1e3).round() as i64,
             (r.diameter * 1e4).round() as i64,
         );
         groups.entry(key).or_default().push(&r.label);
@@ -119,7 +116,11 @@ pub fn cut_list(design: &Design) -> String {
             labels.join(", ")
         );
     }
-    let total: f64 = design.rods.iter().map(|r| r.length()).sum();
+    let total: f64 = design
+        .rods
+        .iter()
+        .map(|r| cut_mm(r.length() * 1e3, r.diameter * 1e3) / 1e3)
+        .sum();
     let _ = writeln!(
         s,
         "  total rod length {:.3} m in {} pieces\n\nCoverings:",
@@ -144,7 +145,20 @@ pub fn cut_list(design: &Design) -> String {
         design.joints.len(),
         design.mass.mass * 1e3
     );
+    for c in clashes(design) {
+        let _ = writeln!(
+            s,
+            "WARNING: socket joint_{} bores clash: {} and {} meet at {:.1}° (at least {:.1}° keeps a wall between them)",
+            c.joint, c.rods[0], c.rods[1], c.angle_deg, c.min_angle_deg
+        );
+    }
     s
+}
+
+/// A rod's cut length, mm: its centre-to-centre length less a socket's
+/// core at each end (never below zero).
+fn cut_mm(length_mm: f64, rod_d_mm: f64) -> f64 {
+    (length_mm - 2.0 * inset_mm(rod_d_mm)).max(0.0)
 }
 
 /// SVG drawing: front (looking downwind, y-z), side (x-z) and top (x-y)

@@ -8,7 +8,8 @@
 //! * [`check`], [`trimming`]: the static report and trim search.
 //! * [`wind`], [`flight`]: gusty wind and the tethered flight simulation
 //!   ([`flight::Flight`] steps it; `kite fly` and the TUI both run it).
-//! * [`export`]: OpenSCAD sockets, cut list, SVG three-view drawing.
+//! * [`export`]: OpenSCAD sockets, cut list, SVG three-view drawing;
+//!   [`sockets`]: socket dimensions, cut-length insets, clashing bores.
 //! * [`optimise`]: the trim search for the largest stability margin
 //!   (`kite optimise`), keeping the frame in one piece ([`connect`]).
 //! * [`launch`]: flights start at the equilibrium the kite settles to.
@@ -34,6 +35,7 @@ pub mod mass;
 pub mod modes;
 pub mod optimise;
 mod settle;
+pub mod sockets;
 pub mod spec;
 mod tether;
 pub mod trimming;

@@ -1,6 +1,8 @@
 //! The one kite verdict: the conjunction of the tests a kite must pass to
 //! fly, in the order they can fail, naming the first that fails.
 //!
+//! 0. the frame is one rigid piece ([`crate::connect`]) — else
+//!    `disconnected` (the cells would fly apart on the line);
 //! 1. geometry (§7: no two primitives overlap along the wind) — else
 //!    `unflyable`;
 //! 2. the string pulls down at the file's attitude (§7, `f_string·g > 0`)
@@ -23,6 +25,8 @@ use serde::Serialize;
 pub enum Verdict {
     /// Every test passes: the kite will fly.
     Stable,
+    /// The frame is in more than one piece.
+    Disconnected,
     /// Primitives overlap along the wind (geometric refusal).
     Unflyable,
     /// The string would have to push the kite up.
@@ -40,6 +44,7 @@ impl Verdict {
     pub fn name(self) -> &'static str {
         match self {
             Self::Stable => "stable",
+            Self::Disconnected => "disconnected",
             Self::Unflyable => "unflyable",
             Self::StringPushes => "string_pushes",
             Self::NoEquilibrium => "no_equilibrium",
@@ -51,6 +56,8 @@ impl Verdict {
 
 /// What each test found.
 pub struct Tests {
+    /// Parts of the frame not joined to the rest.
+    pub unjoined: usize,
     /// Overlapping primitive pairs.
     pub overlaps: usize,
     /// The string pulls down.
@@ -65,7 +72,9 @@ pub struct Tests {
 
 /// The first failing test, or `Stable`.
 pub fn verdict(t: &Tests) -> Verdict {
-    if t.overlaps > 0 {
+    if t.unjoined > 0 {
+        Verdict::Disconnected
+    } else if t.overlaps > 0 {
         Verdict::Unflyable
     } else if !t.pulls_down {
         Verdict::StringPushes
