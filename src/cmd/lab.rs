@@ -4,12 +4,10 @@
 //! `omniad_acquire::lab::<measurement>::run`, prints its report.
 
 use super::fit::MethodArg;
-use super::synth::ObjectArg;
 use anyhow::Result;
 use clap::{Args, Subcommand};
 use omniad_acquire::lab::{self, Knobs};
 use omniad_acquire::pipeline::Method;
-use omniad_acquire::synth::SynthObject;
 use std::path::PathBuf;
 
 /// The measurements.
@@ -29,29 +27,6 @@ pub enum LabCommand {
     Mixfit(Set),
     /// The fit from the true states (fit error alone).
     Truthfit(TruthfitArgs),
-    /// How strong a set's wind and added mass are against the aerodynamic
-    /// force, on the true states.
-    EffectStrength(StrengthArgs),
-}
-
-/// A synthetic set and the object it was made with.
-#[derive(Args, Debug)]
-pub struct StrengthArgs {
-    /// The set's folder.
-    pub set: PathBuf,
-    /// The object given to `omniad synth`.
-    #[arg(long, value_enum, default_value_t = ObjectArg::Plate)]
-    pub object: ObjectArg,
-}
-
-impl From<ObjectArg> for SynthObject {
-    fn from(o: ObjectArg) -> Self {
-        match o {
-            ObjectArg::Plate => SynthObject::Plate,
-            ObjectArg::Box => SynthObject::Box,
-            ObjectArg::TairaPlate => SynthObject::TairaPlate,
-        }
-    }
 }
 
 /// A synthetic recording set (with `truth/`).
@@ -192,7 +167,6 @@ pub fn run(c: &LabCommand) -> Result<()> {
         LabCommand::Forcenoise(a) => lab::forcenoise::run(&a.set, &mut out),
         LabCommand::MissingTerms(a) => lab::missing_terms::run(&a.set, &mut out),
         LabCommand::Mixfit(a) => lab::mixfit::run(&a.set, &mut out),
-        LabCommand::EffectStrength(a) => lab::strength::run(&a.set, a.object.into(), &mut out),
         LabCommand::Truthfit(a) => {
             let knobs = Knobs {
                 relinearise: a.relinearise,

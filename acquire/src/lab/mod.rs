@@ -16,7 +16,6 @@ pub mod diag;
 pub mod forcenoise;
 pub mod missing_terms;
 pub mod mixfit;
-pub mod strength;
 pub mod truthfit;
 
 use crate::pipeline::{FitConfig, Method};

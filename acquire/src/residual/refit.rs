@@ -36,8 +36,8 @@ use crate::residual::extend::{extend, Extended};
 use crate::residual::problems::{self, Problems};
 use crate::residual::select::{self, sign_threshold, Selection, MIN_GAIN};
 use nalgebra::{Matrix3, Vector3};
-use omniad_core::Coefficients;
 use omniad_core::effect::EffectKind;
+use omniad_core::Coefficients;
 use serde::Serialize;
 
 /// Most refits (rounds after the first).

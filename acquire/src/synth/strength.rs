@@ -5,6 +5,10 @@
 //! [`omniad_core::effect::Effect::wrench`], body frame, N). The issue's
 //! "realistic strength" is a fraction of 0.15-0.5.
 //!
+//! Wind (`--wind`, a property of the recording): its force is the model's
+//! aerodynamic force at the air velocity `Rᵀ(v - w)` minus at the ground
+//! velocity `Rᵀv` (eqs. 5, 7), reported as `wind`.
+//!
 //! Added mass: its force `-M_a dU/dt - Ω × (M_a U)` needs `dU/dt`, the rate
 //! of the body-frame air velocity, taken here by central differences of
 //! the frames (one-sided at the ends).
@@ -12,8 +16,8 @@
 use crate::synth::SynthForces;
 use nalgebra::Vector3;
 use omniad_core::effect::EffectInputs;
-use omniad_core::rigid_body::Forces;
-use omniad_core::State;
+use omniad_core::rigid_body::{AirForces, Forces};
+use omniad_core::{Environment, State};
 
 /// Sums of squared force magnitudes over frames.
 #[derive(Clone, Debug, Default)]
@@ -22,6 +26,9 @@ pub struct Strength {
     aero: f64,
     /// Σ|F_effect|² per effect (the set's order), N².
     effects: Vec<f64>,
+    /// Σ|F_aero(air velocity) - F_aero(ground velocity)|², N² (zero
+    /// without wind).
+    wind: f64,
 }
 
 impl Strength {
@@ -33,6 +40,16 @@ impl Strength {
         for (k, s) in states.iter().enumerate() {
             let aero = forces.air.wrench(k as f64 / fps, s).force;
             self.aero += aero.norm_squared();
+            if env.wind != Vector3::zeros() {
+                let still = AirForces {
+                    model: forces.air.model,
+                    environment: Environment {
+                        wind: Vector3::zeros(),
+                        ..*env
+                    },
+                };
+                self.wind += (aero - still.wrench(k as f64 / fps, s).force).norm_squared();
+            }
             let (a, b) = (k.saturating_sub(1), (k + 1).min(states.len() - 1));
             let rate = match (states.get(a), states.get(b)) {
                 (Some(p), Some(n)) if b > a => (air(n) - air(p)) * (fps / (b - a) as f64),
@@ -55,16 +72,20 @@ impl Strength {
     /// `RMS|F_effect| / RMS|F_aero|` per effect (NaN without aerodynamic
     /// force).
     pub fn fractions(&self) -> Vec<f64> {
-        self.effects
-            .iter()
-            .map(|e| {
-                if self.aero > 0.0 {
-                    (e / self.aero).sqrt()
-                } else {
-                    f64::NAN
-                }
-            })
-            .collect()
+        self.effects.iter().map(|e| self.fraction(*e)).collect()
+    }
+
+    /// The wind's `RMS|F_wind| / RMS|F_aero|` (`None` without wind).
+    pub fn wind_fraction(&self) -> Option<f64> {
+        (self.wind > 0.0).then(|| self.fraction(self.wind))
+    }
+
+    fn fraction(&self, sum: f64) -> f64 {
+        if self.aero > 0.0 {
+            (sum / self.aero).sqrt()
+        } else {
+            f64::NAN
+        }
     }
 }
 

@@ -37,7 +37,7 @@ fn v3(v: &Vector3<f64>) -> String {
 }
 
 /// Generates the set into `out` (created if needed). Returns each effect's
-/// name (as given) and measured strength, `RMS|F_effect| / RMS|F_aero|`
+/// name (as given; `wind` last when the set has one) and measured strength, `RMS|F_effect| / RMS|F_aero|`
 /// over the generated frames ([`crate::synth::strength`]), also written to
 /// `truth/model.toml`'s `[force_fraction]`.
 pub fn generate(out: &Path, cfg: &SynthConfig) -> Result<Vec<(String, f64)>> {
@@ -120,17 +120,20 @@ pub fn generate(out: &Path, cfg: &SynthConfig) -> Result<Vec<(String, f64)>> {
         &truth_dir.join("coefficients.csv"),
         &coefficients_csv(&model),
     )?;
-    let fractions = strength.fractions();
+    let mut fractions: Vec<(String, f64)> = cfg
+        .effects
+        .iter()
+        .map(|e| e.name.clone())
+        .zip(strength.fractions())
+        .collect();
+    if let Some(w) = strength.wind_fraction() {
+        fractions.push(("wind".to_owned(), w));
+    }
     write(
         &truth_dir.join("model.toml"),
         &truth_toml(&model, cfg, &effects, &fractions),
     )?;
-    Ok(cfg
-        .effects
-        .iter()
-        .map(|e| e.name.clone())
-        .zip(fractions)
-        .collect())
+    Ok(fractions)
 }
 
 /// `truth/model.toml`: the generating model's constants, the wind, and
@@ -141,7 +144,7 @@ fn truth_toml(
     model: &omniad_core::Coefficients<f64>,
     cfg: &SynthConfig,
     effects: &[omniad_core::effect::Effect<f64>],
-    fractions: &[f64],
+    fractions: &[(String, f64)],
 ) -> String {
     let d = model.damping();
     let mut s = format!(
@@ -167,8 +170,8 @@ fn truth_toml(
         let _ = writeln!(s, "{} = [{}]", e.kind.name(), p.join(", "));
     }
     s.push_str("[force_fraction]\n");
-    for (e, f) in cfg.effects.iter().zip(fractions) {
-        let _ = writeln!(s, "{} = {f:.4}", e.name);
+    for (name, f) in fractions {
+        let _ = writeln!(s, "{name} = {f:.4}");
     }
     s
 }
