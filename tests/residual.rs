@@ -212,7 +212,8 @@ fn residual_with_given_coeffs() {
 #[test]
 fn residual_refilters_with_the_wind_it_finds() {
     let tmp = tempfile::tempdir().expect("tempdir");
-    let set = tmp.path().join("windy");
+    // Not "windy": the model file records its source folder.
+    let set = tmp.path().join("set");
     let set_s = set.to_str().expect("utf-8");
     omniad(&[
         "synth", set_s, "--object", "plate", "--seed", "3", "--drops", "6", "--spins", "4",
