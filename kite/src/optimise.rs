@@ -66,12 +66,17 @@ fn kind(k: usize) -> usize {
 pub struct OptimiseOptions {
     /// Largest number of designs checked.
     pub max_evaluations: usize,
+    /// How many of the best stable designs are flown (seeds 1-3) before
+    /// giving up on one that flies; each costs three 60 s flights, so an
+    /// interactive caller (the TUI) flies fewer.
+    pub flown: usize,
 }
 
 impl Default for OptimiseOptions {
     fn default() -> Self {
         Self {
             max_evaluations: 200,
+            flown: FLOWN,
         }
     }
 }
@@ -240,7 +245,7 @@ pub fn optimise(
             step.iter_mut().for_each(|s| *s /= 2.0);
         }
     }
-    let (x, best, flights) = flight_checked(&base, assemble, x, best, stable);
+    let (x, best, flights) = flight_checked(&base, assemble, x, best, stable, opts.flown);
     let spec = apply(&base, &x);
     Ok(OptimiseReport {
         flights,
@@ -253,13 +258,14 @@ pub fn optimise(
     })
 }
 
-/// How many of the best stable designs are flown before giving up.
+/// How many of the best stable designs are flown before giving up (the
+/// default of [`OptimiseOptions::flown`]).
 const FLOWN: usize = 8;
 
 /// The linear margin does not size the response to gusts: a kite whose
 /// slowest mode decays at 0.2/s may still be thrown over by a 1 m/s gust
 /// (`box-classic` at pitch 35°). So the stable designs found are flown,
-/// best margin first (at most [`FLOWN`]), and the first that flies on
+/// best margin first (at most `flown` of them), and the first that flies on
 /// seeds 1-3 is the result; if none does, the best margin is, with its
 /// flights reported.
 fn flight_checked(
@@ -268,10 +274,11 @@ fn flight_checked(
     x: Vec<f64>,
     best: Score,
     mut stable: Vec<(Vec<f64>, Score)>,
+    flown_at_most: usize,
 ) -> (Vec<f64>, Score, Vec<String>) {
     stable.sort_by(|a, b| b.1.objective.total_cmp(&a.1.objective));
     stable.dedup_by(|a, b| a.0 == b.0);
-    for (cx, cs) in stable.into_iter().take(FLOWN) {
+    for (cx, cs) in stable.into_iter().take(flown_at_most) {
         let Ok(d) = assemble(apply(base, &cx)) else {
             continue;
         };

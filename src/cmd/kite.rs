@@ -233,6 +233,7 @@ fn optimise(a: &OptimiseArgs) -> Result<()> {
     let assemble = |spec| Design::assemble(spec, &base, &library);
     let opts = omniad_kite::optimise::OptimiseOptions {
         max_evaluations: a.evaluations,
+        ..Default::default()
     };
     let report = omniad_kite::optimise::optimise(&design, &assemble, &opts)?;
     report.spec.save(&a.output)?;

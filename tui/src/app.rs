@@ -118,6 +118,7 @@ impl App {
         match self.view {
             ViewId::Sim => self.sim.running,
             ViewId::Telemetry => self.telemetry.playing,
+            ViewId::Kite => self.kite.optimising(),
             _ => false,
         }
     }
@@ -144,6 +145,7 @@ impl App {
                 self.telemetry.tick();
                 true
             }
+            ViewId::Kite => self.kite.poll_optimise(),
             _ => false,
         }
     }

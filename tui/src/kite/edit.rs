@@ -1,8 +1,15 @@
 //! The kite view's editing keys, applied to the kite crate's
 //! [`KiteSpec`]: select, add, move/rotate/scale, remove a primitive,
-//! pitch, wind speed and the attachment point along the string.
+//! the kite's roll, pitch and yaw, wind speed and the attachment point
+//! along the string; `o` / `u` run the optimiser / restore
+//! ([`super::optimiser`]). Moving or turning a primitive carries the
+//! `[[rod]]` ends sitting on it (the kite crate's
+//! [`omniad_kite::connect::move_primitive`]), so the frame stays joined.
 
 use super::{KiteView, Tool};
+use nalgebra::Vector3;
+use omniad_kite::connect::move_primitive;
+use omniad_kite::geometry::rotation_from_degrees;
 use omniad_kite::spec::{Kind, PrimitiveSpec};
 
 impl KiteView {
@@ -21,8 +28,14 @@ impl KiteView {
             'x' => self.axis = 0,
             'y' => self.axis = 1,
             'z' => self.axis = 2,
+            '(' => s.orientation[0] -= 2.0,
+            ')' => s.orientation[0] += 2.0,
             '[' => s.orientation[1] -= 2.0,
             ']' => s.orientation[1] += 2.0,
+            '<' => s.orientation[2] -= 2.0,
+            '>' => s.orientation[2] += 2.0,
+            'o' => self.start_optimise(),
+            'u' => self.restore(),
             '{' => s.wind.speed = (s.wind.speed - 0.5).max(0.5),
             '}' => s.wind.speed = (s.wind.speed + 0.5).min(40.0),
             ',' => self.shift_attachment(-0.02),
@@ -41,24 +54,40 @@ impl KiteView {
         true
     }
 
+    /// The arrow keys: the tool's step along the axis on the selected
+    /// primitive. Move and rotate go through the kite crate's
+    /// `move_primitive` so the rods on it follow; the x-y-z angles are
+    /// then written back exactly as stepped (the same attitude).
     pub(super) fn adjust(&mut self, sign: f64) -> bool {
-        let (tool, axis) = (self.tool, self.axis);
-        let Some(p) = self.spec.primitives.get_mut(self.selected) else {
+        let (tool, axis, i) = (self.tool, self.axis, self.selected);
+        let Some(p) = self.spec.primitives.get(i) else {
             return false;
         };
-        let Some(slot) = (match tool {
-            Tool::Move => p.position.get_mut(axis),
-            Tool::Rotate => p.rotation.get_mut(axis),
-            Tool::Scale => p.size.get_mut(axis),
-        }) else {
+        let (old, mut new) = (p.rotation, p.rotation);
+        let mut shift = Vector3::zeros();
+        let mut size = p.size;
+        let (Some(angle), Some(d), Some(length)) =
+            (new.get_mut(axis), shift.get_mut(axis), size.get_mut(axis))
+        else {
             return false;
         };
-        *slot = match tool {
-            Tool::Move => *slot + 0.01 * sign,
-            Tool::Rotate => (*slot + 5.0 * sign + 180.0).rem_euclid(360.0) - 180.0,
-            Tool::Scale if *slot == 0.0 => 0.0,
-            Tool::Scale => (*slot * 1.1f64.powf(sign)).clamp(0.01, 10.0),
-        };
+        match tool {
+            Tool::Move => *d = 0.01 * sign,
+            Tool::Rotate => *angle = (*angle + 5.0 * sign + 180.0).rem_euclid(360.0) - 180.0,
+            Tool::Scale if *length == 0.0 => {}
+            Tool::Scale => *length = (*length * 1.1f64.powf(sign)).clamp(0.01, 10.0),
+        }
+        if tool == Tool::Scale {
+            if let Some(p) = self.spec.primitives.get_mut(i) {
+                p.size = size;
+            }
+            return true;
+        }
+        let turn = rotation_from_degrees(&new) * rotation_from_degrees(&old).transpose();
+        move_primitive(&mut self.spec, i, &turn, &shift);
+        if let Some(p) = self.spec.primitives.get_mut(i) {
+            p.rotation = new;
+        }
         true
     }
 

@@ -4,9 +4,12 @@
 //! function `omniad kite check` runs, so the numbers shown are its numbers.
 //! Only view state (selection, tool, axis, message) lives here.
 
+pub mod bar;
 pub mod drawing;
+pub mod dynamics;
 pub mod edit;
 pub mod files;
+pub mod optimiser;
 pub mod view;
 
 use omniad_kite::check::CheckReport;
@@ -57,6 +60,12 @@ pub struct KiteView {
     pub design: Result<Design, String>,
     /// `kite check`'s report on [`Self::design`], or why there is none.
     pub analysis: Result<CheckReport, String>,
+    /// The optimiser's report on the design it loaded, as lines (empty
+    /// until `o` has run).
+    pub optimised: Vec<String>,
+    /// The design before the last optimisation (`u` restores it).
+    pub previous: Option<KiteSpec>,
+    job: Option<optimiser::Job>,
     library: Result<Library, String>,
     base: PathBuf,
 }
@@ -80,6 +89,9 @@ impl KiteView {
             load_error: None,
             design: Err(String::new()),
             analysis: Err(String::new()),
+            optimised: Vec::new(),
+            previous: None,
+            job: None,
             library,
             base,
         };

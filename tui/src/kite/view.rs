@@ -1,7 +1,9 @@
 //! Drawing the kite design view: primitive list, the selected
 //! primitive's numbers, equilibrium numbers and the eigenvalue bars.
 
+use super::bar::eigen_bar;
 use super::drawing::{render_drawing, Projection};
+use super::dynamics;
 use super::{KiteView, Tool};
 use crate::theme::Theme;
 use omniad_kite::check::{AxisReport, CheckReport};
@@ -38,12 +40,18 @@ impl Widget for KiteWidget<'_> {
         render_list(v, theme, list, buf);
         render_detail(v, theme, detail, buf);
         render_drawing(v, Projection::Side, theme, side, buf);
-        let [eq, eig, top] = Layout::vertical([
+        // The dynamic panel sits under the static eigenvalues; on a short
+        // terminal it takes the top projection's place.
+        let dyn_h = dynamics::height(v);
+        let both = right.height >= 17 + dyn_h + 8;
+        let [eq, eig, modes, top] = Layout::vertical([
             Constraint::Length(9),
             Constraint::Length(8),
+            Constraint::Length(if both { dyn_h } else { 0 }),
             Constraint::Fill(1),
         ])
         .areas(right);
+        let modes = if both { modes } else { top };
         match &v.analysis {
             Ok(a) => {
                 render_equilibrium(v, a, theme, eq, buf);
@@ -54,7 +62,10 @@ impl Widget for KiteWidget<'_> {
                 .block(Block::bordered().title(" equilibrium "))
                 .render(eq.union(eig), buf),
         }
-        render_drawing(v, Projection::Top, theme, top, buf);
+        if both {
+            render_drawing(v, Projection::Top, theme, top, buf);
+        }
+        dynamics::render_dynamics(v, theme, modes, buf);
     }
 }
 
@@ -154,10 +165,12 @@ fn render_equilibrium(v: &KiteView, a: &CheckReport, theme: Theme, area: Rect, b
     };
     let lines = vec![
         Line::raw(format!(
-            "wind {:.1} m/s  ρ {:.2}  pitch {:+.0}°  M {:.1} g",
+            "wind {:.1} m/s ρ{:.2} rpy {:+.0} {:+.0} {:+.0}° {:.1} g",
             d.wind.speed,
             d.wind.air_density,
+            d.orientation[0],
             d.orientation[1],
+            d.orientation[2],
             a.mass * 1000.0
         )),
         Line::from(vec![
@@ -176,32 +189,6 @@ fn render_equilibrium(v: &KiteView, a: &CheckReport, theme: Theme, area: Rect, b
         .wrap(Wrap { trim: true })
         .block(Block::bordered().title(Line::styled(" equilibrium ", theme.title())))
         .render(area, buf);
-}
-
-/// One eigenvalue as a bar about zero: `◀====|` stable (negative, blue),
-/// `|####▶` unstable (positive, red).
-pub fn eigen_bar(value: f64, scale: f64, half: usize) -> String {
-    let n = if scale > 0.0 {
-        ((value.abs() / scale) * half as f64).ceil() as usize
-    } else {
-        0
-    };
-    let n = n.min(half);
-    if value < 0.0 {
-        format!(
-            "{}◀{}|{}",
-            " ".repeat(half - n),
-            "=".repeat(n),
-            " ".repeat(half + 1)
-        )
-    } else {
-        format!(
-            "{}|{}▶{}",
-            " ".repeat(half + 1),
-            "#".repeat(n),
-            " ".repeat(half - n)
-        )
-    }
 }
 
 fn render_eigen(a: &CheckReport, theme: Theme, area: Rect, buf: &mut Buffer) {
