@@ -11,8 +11,8 @@ use crate::input::state_csv::read_states;
 use crate::pipeline;
 use crate::reconstruct::run::Silent;
 use crate::synth::truth::{
-    coefficient_error, fitted_directions, force_error, read_coefficients, state_error,
-    torque_directions, Coefficient, StateError,
+    fitted_directions, force_error, read_coefficients, state_error, torque_directions,
+    torque_error, StateError,
 };
 use std::io::Write;
 use std::path::Path;
@@ -93,14 +93,7 @@ pub fn run(dir: &Path, knobs: &Knobs, out: &mut dyn Write) -> LabResult {
         );
     }
     scale_check(&fit.model, &truth, &dirs, out)?;
-    let (err, n) = coefficient_error(
-        &fit.model,
-        &truth,
-        &torque_directions(&fit.samples),
-        20,
-        15f64.to_radians(),
-        Coefficient::Torque,
-    );
+    let (err, n) = torque_error(&fit.model, &truth, &torque_directions(&fit.samples));
     say!(
         out,
         "C_T relative L2 error {:.2} % over {n} grid directions (torque-fit frames)",

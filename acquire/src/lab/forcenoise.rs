@@ -12,7 +12,9 @@ use crate::pipeline::{self, FitConfig};
 use crate::reconstruct::forces::ForceStats;
 use crate::reconstruct::run::Silent;
 use crate::synth::rng::Rng;
-use crate::synth::truth::{fitted_directions, force_error, read_coefficients, true_trajectories};
+use crate::synth::truth::{
+    fitted_directions, force_error, read_coefficients, torque_error, true_trajectories,
+};
 use nalgebra::Vector3;
 use std::collections::HashMap;
 use std::io::Write;
@@ -111,7 +113,7 @@ fn torque_report(
     truth: &[[Vector3<f64>; 3]],
     out: &mut dyn Write,
 ) -> LabResult {
-    use crate::synth::truth::{coefficient_error, torque_directions, Coefficient};
+    use crate::synth::truth::torque_directions;
     let mut diffs = Vec::new();
     let mut slope = (0.0, 0.0);
     for s in rec.iter().filter(|s| s.use_torque) {
@@ -162,14 +164,7 @@ fn torque_report(
         ("true + noise", &noisy),
     ] {
         let model = pipeline::fit_samples(base, frames, set, cfg)?;
-        let (err, k) = coefficient_error(
-            &model,
-            truth,
-            &dirs,
-            20,
-            15f64.to_radians(),
-            Coefficient::Torque,
-        );
+        let (err, k) = torque_error(&model, truth, &dirs);
         say!(out, "{label}: C_T {:.2} % over {k} directions", err * 100.0);
     }
     Ok(())

@@ -12,8 +12,8 @@ use crate::pipeline::{self, FitConfig};
 use crate::reconstruct::forces::{ForceStats, Sample};
 use crate::reconstruct::run::Silent;
 use crate::synth::truth::{
-    coefficient_error, fitted_directions, force_error, read_coefficients, torque_directions,
-    true_trajectories, Coefficient,
+    fitted_directions, force_error, read_coefficients, torque_directions, torque_error,
+    true_trajectories,
 };
 use std::collections::HashMap;
 use std::io::Write;
@@ -35,14 +35,7 @@ pub fn run(dir: &Path, out: &mut dyn Write) -> LabResult {
     let report = |out: &mut dyn Write, label: &str, frames: &[Sample]| -> LabResult {
         let m = pipeline::fit_samples(&base, frames, &set, &cfg)?;
         let (e, n) = force_error(&m, &truth, &dirs, 20, 15f64.to_radians());
-        let (et, nt) = coefficient_error(
-            &m,
-            &truth,
-            &tdirs,
-            20,
-            15f64.to_radians(),
-            Coefficient::Torque,
-        );
+        let (et, nt) = torque_error(&m, &truth, &tdirs);
         say!(
             out,
             "{label}: C_F {:.2} % over {n}, C_T {:.2} % over {nt}",

@@ -11,8 +11,8 @@ use crate::input::state_csv::read_states;
 use crate::pipeline::{self, FitConfig};
 use crate::reconstruct::forces::ForceStats;
 use crate::synth::truth::{
-    coefficient_error, fitted_directions, force_error, read_coefficients, torque_directions,
-    true_trajectories, Coefficient,
+    fitted_directions, force_error, read_coefficients, torque_directions, torque_error,
+    true_trajectories,
 };
 use std::io::Write;
 use std::path::Path;
@@ -49,14 +49,7 @@ pub fn run(
         err * 100.0
     );
     let tdirs = torque_directions(&frames);
-    let (terr, tn) = coefficient_error(
-        &model,
-        &truth,
-        &tdirs,
-        20,
-        15f64.to_radians(),
-        Coefficient::Torque,
-    );
+    let (terr, tn) = torque_error(&model, &truth, &tdirs);
     say!(
         out,
         "truth-state fit: C_T rel. L2 {:.2} % over {tn} directions",

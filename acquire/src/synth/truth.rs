@@ -148,6 +148,24 @@ pub fn force_error(
     )
 }
 
+/// The C_T error by the acceptance rule (issue 20 item 5: truth grid
+/// directions with at least 20 of the torque-fit `directions` within 15°),
+/// as [`coefficient_error`] with [`Coefficient::Torque`].
+pub fn torque_error(
+    model: &Coefficients<f64>,
+    truth: &[[Vector3<f64>; 3]],
+    directions: &[Vector3<f64>],
+) -> (f64, usize) {
+    coefficient_error(
+        model,
+        truth,
+        directions,
+        20,
+        15f64.to_radians(),
+        Coefficient::Torque,
+    )
+}
+
 /// Which coefficient [`coefficient_error`] scores.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Coefficient {
