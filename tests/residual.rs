@@ -167,7 +167,9 @@ fn residual_with_given_coeffs() {
     let r = residual(set_s, &["--coeffs", &plate]);
     assert_item7_keys(&r);
     assert_eq!(r["baseline_model"], "given", "{r:#}");
-    let floor = r["noise_floor_force_rms"].as_f64().expect("noise floor");
+    let floor = r["markers_only_force_noise_rms"]
+        .as_f64()
+        .expect("markers-only noise");
     assert!(floor > 0.0 && floor.is_finite(), "noise floor {floor}");
     assert_eq!(r["selected"][0], "buoyancy", "{r:#}");
     let vb = r["candidates"]
