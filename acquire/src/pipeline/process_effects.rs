@@ -15,7 +15,7 @@
 use crate::error::{Error, Result};
 use crate::reconstruct::forces::Sample;
 use nalgebra::Matrix3;
-use omniad_core::effect::{Effect, EffectInputs, EffectKind};
+use omniad_core::effect::{Effect, EffectKind};
 use omniad_core::Coefficients;
 use std::borrow::Cow;
 
@@ -47,14 +47,7 @@ pub(super) fn net_of_effects<'a>(
     let net = frames
         .iter()
         .map(|s| {
-            let x = EffectInputs {
-                velocity: s.velocity,
-                angular_velocity: s.angular_velocity,
-                gravity: s.gravity_body,
-                velocity_rate: s.velocity_rate,
-                air_density,
-                reference_length: model.reference_length(),
-            };
+            let x = s.effect_inputs(air_density, model.reference_length());
             let mut out = *s;
             for e in model.effects() {
                 let w = e.wrench(&x);

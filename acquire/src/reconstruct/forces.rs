@@ -4,6 +4,7 @@
 use crate::input::recording::{Object, TakeKind};
 use crate::reconstruct::filter::Smoothed;
 use nalgebra::{Matrix3, Vector3};
+use omniad_core::effect::EffectInputs;
 
 /// One reconstructed frame: velocities and the air's force and torque.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -41,6 +42,22 @@ pub struct Sample {
     pub use_force: bool,
     /// Passes `T·Ω <= 0` as well: used by the torque and damping fits.
     pub use_torque: bool,
+}
+
+impl Sample {
+    /// What the named effects act on at this frame (body frame; air of
+    /// density `air_density`, kg/m³, object of reference length
+    /// `reference_length`, m).
+    pub fn effect_inputs(&self, air_density: f64, reference_length: f64) -> EffectInputs<f64> {
+        EffectInputs {
+            velocity: self.velocity,
+            angular_velocity: self.angular_velocity,
+            gravity: self.gravity_body,
+            velocity_rate: self.velocity_rate,
+            air_density,
+            reference_length,
+        }
+    }
 }
 
 /// Counts of the stability enforcement (§5).
@@ -93,16 +110,8 @@ pub fn reconstruct(
         let omega = cur.angular_velocity;
         let torque = object.inertia * (next.angular_velocity - prev.angular_velocity) / h
             + omega.cross(&(object.inertia * omega));
-        let velocity = cur
-            .orientation
-            .inverse_transform_vector(&(cur.velocity - wind));
-        let velocity_rate = (next
-            .orientation
-            .inverse_transform_vector(&(next.velocity - wind))
-            - prev
-                .orientation
-                .inverse_transform_vector(&(prev.velocity - wind)))
-            / h;
+        let velocity = cur.air_velocity_body(wind);
+        let velocity_rate = (next.air_velocity_body(wind) - prev.air_velocity_body(wind)) / h;
         // Eq. (9) is linear in v_{k+1} - v_{k-1}: Σ_F = (M/h)² Rᵀ Σ_Δv R
         // (the orientation's own uncertainty is neglected).
         let rot = cur.orientation.to_rotation_matrix();

@@ -8,7 +8,7 @@
 
 use crate::reconstruct::forces::Sample;
 use nalgebra::{DMatrix, UnitQuaternion, Vector3};
-use omniad_core::effect::{Effect, EffectInputs, EffectKind};
+use omniad_core::effect::{Effect, EffectKind};
 use omniad_core::Coefficients;
 
 /// A candidate effect.
@@ -95,14 +95,7 @@ pub(crate) fn columns(
     let (rho, l) = (ctx.air_density, ctx.reference_length);
     match candidate {
         Candidate::Named(kind) => {
-            let x = EffectInputs {
-                velocity: s.velocity,
-                angular_velocity: s.angular_velocity,
-                gravity: s.gravity_body,
-                velocity_rate: s.velocity_rate,
-                air_density: rho,
-                reference_length: l,
-            };
+            let x = s.effect_inputs(rho, l);
             for j in 0..w {
                 let e = Effect::<f64>::unit(kind, j).wrench(&x);
                 f.set_column(j, &e.force);

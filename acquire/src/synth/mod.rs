@@ -185,18 +185,27 @@ pub struct SynthForces<'a> {
     pub effects: &'a [omniad_core::effect::Effect<f64>],
 }
 
-impl Forces<f64> for SynthForces<'_> {
-    fn wrench(&self, t: f64, s: &State<f64>) -> Wrench<f64> {
-        let mut w = self.air.wrench(t, s);
+impl SynthForces<'_> {
+    /// What the effects act on in state `s` (body frame) of this air, with
+    /// `velocity_rate` the body-frame `dV/dt`, m/s².
+    pub fn effect_inputs(&self, s: &State<f64>, velocity_rate: Vector3<f64>) -> EffectInputs<f64> {
         let env = &self.air.environment;
-        let inputs = EffectInputs {
+        EffectInputs {
             velocity: s.air_velocity_body(&env.wind),
             angular_velocity: s.angular_velocity,
             gravity: s.orientation.inverse_transform_vector(&env.gravity),
-            velocity_rate: Vector3::zeros(),
+            velocity_rate,
             air_density: env.air_density,
             reference_length: self.air.model.reference_length(),
-        };
+        }
+    }
+}
+
+impl Forces<f64> for SynthForces<'_> {
+    fn wrench(&self, t: f64, s: &State<f64>) -> Wrench<f64> {
+        let mut w = self.air.wrench(t, s);
+        // Added mass's -M_a dU/dt is on the mass side (`added_mass`).
+        let inputs = self.effect_inputs(s, Vector3::zeros());
         for e in self.effects {
             let f = e.wrench(&inputs);
             w.force += f.force;

@@ -15,7 +15,6 @@
 
 use crate::synth::SynthForces;
 use nalgebra::Vector3;
-use omniad_core::effect::EffectInputs;
 use omniad_core::rigid_body::{AirForces, Forces};
 use omniad_core::{Environment, State};
 
@@ -55,14 +54,7 @@ impl Strength {
                 (Some(p), Some(n)) if b > a => (air(n) - air(p)) * (fps / (b - a) as f64),
                 _ => Vector3::zeros(),
             };
-            let inputs = EffectInputs {
-                velocity: air(s),
-                angular_velocity: s.angular_velocity,
-                gravity: s.orientation.inverse_transform_vector(&env.gravity),
-                velocity_rate: rate,
-                air_density: env.air_density,
-                reference_length: forces.air.model.reference_length(),
-            };
+            let inputs = forces.effect_inputs(s, rate);
             for (sum, e) in self.effects.iter_mut().zip(forces.effects) {
                 *sum += e.wrench(&inputs).force.norm_squared();
             }
