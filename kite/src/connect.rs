@@ -90,11 +90,6 @@ pub fn pieces(spec: &KiteSpec) -> usize {
     roots.len()
 }
 
-/// Whether the frame is one piece.
-pub fn connected(spec: &KiteSpec) -> bool {
-    pieces(spec) <= 1
-}
-
 /// The parts not joined to the first primitive's piece, by name
 /// (`primitive "rear"`, `rod[3]`): what `kite check` names when it
 /// refuses a frame that would fall apart on the line.

@@ -57,6 +57,16 @@ pub enum Outcome {
     Crashes,
 }
 
+impl Outcome {
+    /// `flies` or `crashes`, as in `kite fly --json`'s `outcome`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Flies => "flies",
+            Self::Crashes => "crashes",
+        }
+    }
+}
+
 /// Flight summary.
 #[derive(Clone, Debug, Serialize)]
 pub struct FlightReport {

@@ -33,7 +33,7 @@
 use crate::assemble::Design;
 use crate::check::{check, Verdict};
 use crate::connect::{move_primitive, pieces};
-use crate::flight::{fly, FlightOptions};
+use crate::flight::{fly, FlightOptions, Outcome};
 use crate::geometry::rotation_from_degrees;
 use crate::spec::{KiteSpec, StringSpec};
 use anyhow::Result;
@@ -122,7 +122,7 @@ pub struct OptimiseReport {
     pub evaluations: usize,
     /// The result flown 60 s in 1 m/s gusts on seeds 1-3: `flies` or
     /// `crashes` each.
-    pub flights: Vec<String>,
+    pub flights: Vec<Outcome>,
     /// The best design's kite file.
     #[serde(skip)]
     pub spec: KiteSpec,
@@ -275,7 +275,7 @@ fn flight_checked(
     best: Score,
     mut stable: Vec<(Vec<f64>, Score)>,
     flown_at_most: usize,
-) -> (Vec<f64>, Score, Vec<String>) {
+) -> (Vec<f64>, Score, Vec<Outcome>) {
     stable.sort_by(|a, b| b.1.objective.total_cmp(&a.1.objective));
     stable.dedup_by(|a, b| a.0 == b.0);
     for (cx, cs) in stable.into_iter().take(flown_at_most) {
@@ -283,7 +283,7 @@ fn flight_checked(
             continue;
         };
         let f = flown(&d);
-        if f.iter().all(|o| o == "flies") {
+        if f.iter().all(|o| *o == Outcome::Flies) {
             return (cx, cs, f);
         }
     }
@@ -293,17 +293,15 @@ fn flight_checked(
 
 /// The design flown 60 s in 1 m/s gusts on seeds 1-3 (`kite fly`'s
 /// defaults): each outcome's name.
-fn flown(design: &Design) -> Vec<String> {
+fn flown(design: &Design) -> Vec<Outcome> {
     (1..=3)
         .map(|seed| {
             let opts = FlightOptions {
                 seed,
                 ..Default::default()
             };
-            match fly(design, &opts) {
-                Ok(f) => format!("{:?}", f.outcome).to_lowercase(),
-                Err(_) => "crashes".to_string(),
-            }
+            // A flight that cannot be flown (it diverged) is a crash.
+            fly(design, &opts).map_or(Outcome::Crashes, |f| f.outcome)
         })
         .collect()
 }
@@ -354,7 +352,11 @@ pub fn render(r: &OptimiseReport) -> String {
     }
     out += &format!(
         "  result flown 60 s in 1 m/s gusts, seeds 1-3: {}\n",
-        r.flights.join(", ")
+        r.flights
+            .iter()
+            .map(|o| o.name())
+            .collect::<Vec<_>>()
+            .join(", ")
     );
     for c in &r.changes {
         out += &format!(
