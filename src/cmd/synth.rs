@@ -39,8 +39,10 @@ pub struct SynthArgs {
     /// propeller_thrust (½ρL⁴|Ω| K Ω, K = SCALE x Z Zᵀ with Z the pole).
     /// The force each effect then has is measured over the generated
     /// frames, RMS|F_effect| / RMS|F_aero| (F_aero the coefficient model's
-    /// force), printed and written to truth/model.toml [force_fraction];
-    /// it scales linearly with SCALE (issue 15's realistic strength:
+    /// force; a --wind's force is the model's at the air velocity minus at
+    /// the ground velocity), printed and written to truth/model.toml
+    /// [force_fraction]; it grows linearly with SCALE only while the effect
+    /// changes the trajectories little (issue 15's realistic strength:
     /// 0.15-0.5).
     #[arg(long)]
     pub effect: Vec<String>,
