@@ -45,7 +45,7 @@ impl Design {
 
     /// Assembles a validated spec; object files are relative to `base`.
     pub fn assemble(spec: KiteSpec, base: &Path, library: &Library) -> Result<Self> {
-        let rods = geometry::all_rods(&spec);
+        let rods = geometry::all_rods(&spec)?;
         let panels: Vec<Panel> = spec.primitives.iter().flat_map(geometry::panels).collect();
         let joints = joints::joints(&rods);
         let mut extra: Vec<MassItem> = joints

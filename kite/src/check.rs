@@ -77,6 +77,11 @@ pub struct CheckReport {
     /// Parts of the frame not joined to the first primitive's piece
     /// ([`crate::connect::unjoined`]); empty when the frame is one piece.
     pub unjoined: Vec<String>,
+    /// `[[rod]]`s with an end given by coordinates (old files) rather than
+    /// a named corner or edge ([`crate::connect::coordinate_rods`]): a
+    /// warning; they are joined by where their ends lie.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub joined_by_coordinates: Vec<String>,
     /// Socket bores that run into each other ([`crate::sockets`]): a
     /// fabrication warning, not part of the verdict.
     pub socket_clashes: Vec<crate::sockets::Clash>,
@@ -213,6 +218,13 @@ pub fn check_at(
         &statics,
         &modes,
     ));
+    let joined_by_coordinates = crate::connect::coordinate_rods(&design.spec);
+    if !joined_by_coordinates.is_empty() {
+        reasons.push(format!(
+            "{} joined by coordinates, not by a named corner or edge: they do not follow their primitives when these move (write `from = {{ primitive = \"name\", corner = \"+x-y+z\" }}`, see data/kites/README.md)",
+            joined_by_coordinates.join(", ")
+        ));
+    }
     let socket_clashes = crate::sockets::clashes(design);
     if let Some(c) = socket_clashes.first() {
         reasons.push(format!(
@@ -254,6 +266,7 @@ pub fn check_at(
         jacobian: here.jacobian,
         statics,
         unjoined,
+        joined_by_coordinates,
         socket_clashes,
         overlaps,
         modes,

@@ -1,13 +1,16 @@
-//! Which parts of the frame hold together: a `[[rod]]` end sitting on a
-//! primitive (within [`CONTACT`] of one of its frame edges, or inside an
-//! object's bounding box) joins the rod to it, rods join where an end
-//! meets another rod, and primitives join where a corner of one lies on
-//! an edge of the other. The frame is connected when all of it is one
+//! Which parts of the frame hold together: a `[[rod]]` end naming a
+//! primitive's corner or edge ([`crate::rod_end`]) joins the rod to that
+//! primitive; an old-style end given by coordinates joins the primitive
+//! it sits on (within [`CONTACT`] of one of its frame edges, or inside
+//! an object's bounding box); rods join where an end meets another rod,
+//! and primitives join where a corner of one lies on an edge of the
+//! other. The frame is connected when all of it is one
 //! piece — a kite whose cells are not tied together falls apart on the
 //! line. `kite optimise` turns rods with the primitive they sit on and
 //! refuses trials that come apart.
 
-use crate::geometry::{corners, frame_rods, rotation_from_degrees};
+use crate::geometry::{corners, end_point, frame_rods, rotation_from_degrees};
+use crate::rod_end::RodEnd;
 use crate::spec::{Kind, KiteSpec, PrimitiveSpec};
 use nalgebra::{Matrix3, Rotation3, Vector3};
 
@@ -39,6 +42,23 @@ fn holder(spec: &KiteSpec, point: &Vector3<f64>) -> Option<usize> {
     spec.primitives.iter().position(|p| touches(p, point))
 }
 
+/// The primitives a rod end at `point` joins: the one it names, or (an
+/// end given by coordinates) every one it sits on.
+fn holders(spec: &KiteSpec, end: &RodEnd, point: &Vector3<f64>) -> Vec<usize> {
+    match end {
+        RodEnd::On(f) => spec
+            .primitives
+            .iter()
+            .position(|p| p.name == f.primitive)
+            .into_iter()
+            .collect(),
+        RodEnd::Point(_) => (spec.primitives.iter().enumerate())
+            .filter(|(_, p)| touches(p, point))
+            .map(|(i, _)| i)
+            .collect(),
+    }
+}
+
 /// The piece each part of the frame belongs to: one label per primitive
 /// (first) and per `[[rod]]` (after); equal labels are one rigid piece.
 fn piece_labels(spec: &KiteSpec) -> Vec<usize> {
@@ -63,18 +83,24 @@ fn piece_labels(spec: &KiteSpec) -> Vec<usize> {
             }
         }
     }
+    // A named end that no longer resolves (its primitive removed) joins
+    // nothing.
+    let ends: Vec<[Option<Vector3<f64>>; 2]> = spec
+        .rods
+        .iter()
+        .map(|r| [&r.from, &r.to].map(|e| end_point(spec, e, "rod").ok()))
+        .collect();
     for (k, r) in spec.rods.iter().enumerate() {
-        let (ra, rb) = (Vector3::from(r.from), Vector3::from(r.to));
-        for end in [ra, rb] {
-            for (i, p) in spec.primitives.iter().enumerate() {
-                if touches(p, &end) {
-                    join(&mut parent, n + k, i);
-                }
+        for (end, point) in [&r.from, &r.to].into_iter().zip(ends[k]) {
+            let Some(pt) = point else { continue };
+            for i in holders(spec, end, &pt) {
+                join(&mut parent, n + k, i);
             }
-            for (m, other) in spec.rods.iter().enumerate().filter(|(m, _)| *m != k) {
-                let (oa, ob) = (Vector3::from(other.from), Vector3::from(other.to));
-                if segment_distance(&end, &oa, &ob) < CONTACT {
-                    join(&mut parent, n + k, n + m);
+            for (m, other) in ends.iter().enumerate().filter(|(m, _)| *m != k) {
+                if let [Some(oa), Some(ob)] = other {
+                    if segment_distance(&pt, oa, ob) < CONTACT {
+                        join(&mut parent, n + k, n + m);
+                    }
                 }
             }
         }
@@ -111,9 +137,10 @@ pub fn unjoined(spec: &KiteSpec) -> Vec<String> {
 }
 
 /// Turns primitive `i` by `turn` about its centre and then shifts it by
-/// `shift` (design frame, m), carrying along every `[[rod]]` end that sits
-/// on it, so rods stay in their sockets (a rod joining it to another part
-/// stretches or swings with it). Rotations are about fixed axes, so the
+/// `shift` (design frame, m). Rod ends naming it follow by themselves
+/// (they are resolved from its pose); old-style coordinate ends sitting
+/// on it are carried along, so rods stay in their sockets (a rod joining
+/// it to another part stretches or swings with it). Rotations are about fixed axes, so the
 /// new `Q' = turn Q`, written back as x-y-z angles.
 pub fn move_primitive(spec: &mut KiteSpec, i: usize, turn: &Matrix3<f64>, shift: &Vector3<f64>) {
     let Some(p) = spec.primitives.get(i).cloned() else {
@@ -127,14 +154,18 @@ pub fn move_primitive(spec: &mut KiteSpec, i: usize, turn: &Matrix3<f64>, shift:
     let ends: Vec<[bool; 2]> = spec
         .rods
         .iter()
-        .map(|r| [r.from, r.to].map(|e| holder(spec, &Vector3::from(e)) == Some(i)))
+        .map(|r| {
+            [&r.from, &r.to].map(|e| match e {
+                RodEnd::Point(p) => holder(spec, &Vector3::from(*p)) == Some(i),
+                RodEnd::On(_) => false,
+            })
+        })
         .collect();
-    for (r, [a, b]) in spec.rods.iter_mut().zip(ends) {
-        if a {
-            r.from = moved(r.from);
-        }
-        if b {
-            r.to = moved(r.to);
+    for (r, carry) in spec.rods.iter_mut().zip(ends) {
+        for (end, c) in [&mut r.from, &mut r.to].into_iter().zip(carry) {
+            if let (RodEnd::Point(p), true) = (&mut *end, c) {
+                *p = moved(*p);
+            }
         }
     }
     if let Some(q) = spec.primitives.get_mut(i) {
@@ -143,6 +174,46 @@ pub fn move_primitive(spec: &mut KiteSpec, i: usize, turn: &Matrix3<f64>, shift:
         q.rotation = [x.to_degrees(), y.to_degrees(), z.to_degrees()];
         q.position = (c + shift).into();
     }
+}
+
+/// Removes primitive `i`; rod ends naming it are first frozen at their
+/// current points (old-style coordinate ends), so the rods stay where
+/// they were and `kite check` reports them if nothing holds them.
+pub fn remove_primitive(spec: &mut KiteSpec, i: usize) {
+    let Some(name) = spec.primitives.get(i).map(|p| p.name.clone()) else {
+        return;
+    };
+    let frozen: Vec<[Option<[f64; 3]>; 2]> = spec
+        .rods
+        .iter()
+        .map(|r| {
+            [&r.from, &r.to].map(|e| {
+                (e.primitive() == Some(name.as_str()))
+                    .then(|| end_point(spec, e, "rod").ok().map(Into::into))
+                    .flatten()
+            })
+        })
+        .collect();
+    for (r, f) in spec.rods.iter_mut().zip(frozen) {
+        for (end, point) in [&mut r.from, &mut r.to].into_iter().zip(f) {
+            if let Some(p) = point {
+                *end = RodEnd::Point(p);
+            }
+        }
+    }
+    spec.primitives.remove(i);
+}
+
+/// Rods with an end given by coordinates, not by a named corner or edge:
+/// `kite check` reports them (old files are accepted; naming the ends
+/// makes them follow their primitive when it moves).
+pub fn coordinate_rods(spec: &KiteSpec) -> Vec<String> {
+    spec.rods
+        .iter()
+        .enumerate()
+        .filter(|(_, r)| [&r.from, &r.to].iter().any(|e| e.primitive().is_none()))
+        .map(|(k, _)| format!("rod[{k}]"))
+        .collect()
 }
 
 /// Turns primitive `i` by `degrees` about the design frame's z axis

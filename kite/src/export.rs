@@ -123,9 +123,10 @@ pub fn cut_list(design: &Design) -> String {
         .sum();
     let _ = writeln!(
         s,
-        "  total rod length {:.3} m in {} pieces\n\nCoverings:",
+        "  total rod length {:.3} m in {} pieces\n{}\nCoverings:",
         total,
-        design.rods.len()
+        design.rods.len(),
+        rod_ends(design)
     );
     for p in &design.panels {
         let (a, b) = p.edges();
@@ -150,6 +151,27 @@ pub fn cut_list(design: &Design) -> String {
             s,
             "WARNING: socket joint_{} bores clash: {} and {} meet at {:.1}° (at least {:.1}° keeps a wall between them)",
             c.joint, c.rods[0], c.rods[1], c.angle_deg, c.min_angle_deg
+        );
+    }
+    s
+}
+
+/// Where each `[[rod]]` goes, by the primitive and corner (or edge
+/// point) each end names, so a builder can find its two sockets; corner
+/// signs are along the primitive's own axes. Empty without `[[rod]]`s.
+fn rod_ends(design: &Design) -> String {
+    let mut s = String::new();
+    if design.spec.rods.is_empty() {
+        return s;
+    }
+    s += "  where each [[rod]] goes (corner signs along the primitive's own x, y, z):\n";
+    for (i, r) in design.spec.rods.iter().enumerate() {
+        let _ = writeln!(
+            s,
+            "    {:<8} {}  to  {}",
+            format!("rod[{i}]"),
+            r.from.describe(),
+            r.to.describe()
         );
     }
     s

@@ -2,7 +2,9 @@
 //! frames, corners, frame rods, covered faces, and the paper's rule that no
 //! two primitives may overlap along the wind direction.
 
-use crate::spec::{Kind, KiteSpec, PrimitiveSpec};
+use crate::rod_end::RodEnd;
+use crate::spec::{Kind, KiteSpec, PrimitiveSpec, RodSpec};
+use anyhow::{anyhow, bail, Result};
 use nalgebra::{Matrix3, Rotation3, Vector2, Vector3};
 
 /// `Q` from rotations about x, then y, then z (fixed axes), degrees.
@@ -55,21 +57,54 @@ impl Panel {
     }
 }
 
+/// The design-frame point of primitive `p` at unit-box coordinates
+/// `unit` (each component in `[-1, 1]`: `±1` a face, so `(±1, ±1, ±1)`
+/// a corner): `position + Q_p (unit ∘ size/2)`, m. The one owner of a
+/// primitive's corner geometry: corners, frame edges and named rod ends
+/// ([`crate::rod_end`]) all come from here.
+pub fn point_on(p: &PrimitiveSpec, unit: &Vector3<f64>) -> Vector3<f64> {
+    let q = rotation_from_degrees(&p.rotation);
+    let h = Vector3::from(p.size) / 2.0;
+    Vector3::from(p.position) + q * unit.component_mul(&h)
+}
+
 /// The eight (or four, for `l_z = 0`) corners of a primitive, design frame.
 pub fn corners(p: &PrimitiveSpec) -> Vec<Vector3<f64>> {
-    let q = rotation_from_degrees(&p.rotation);
-    let c = Vector3::from(p.position);
-    let h = Vector3::from(p.size) / 2.0;
-    let zs: &[f64] = if h.z > 0.0 { &[-1.0, 1.0] } else { &[0.0] };
+    let zs: &[f64] = if p.size[2] > 0.0 { &[-1.0, 1.0] } else { &[0.0] };
     let mut out = Vec::new();
     for &sx in &[-1.0, 1.0] {
         for &sy in &[-1.0, 1.0] {
             for &sz in zs {
-                out.push(c + q * Vector3::new(sx * h.x, sy * h.y, sz * h.z));
+                out.push(point_on(p, &Vector3::new(sx, sy, sz)));
             }
         }
     }
     out
+}
+
+/// A rod end's design-frame point, m: a bare point as written, a named
+/// corner or edge point resolved from its primitive's current size,
+/// position and rotation. Errors name `field` (`rod[2].from...`).
+pub fn end_point(spec: &KiteSpec, end: &RodEnd, field: &str) -> Result<Vector3<f64>> {
+    match end {
+        RodEnd::Point(p) => Ok(Vector3::from(*p)),
+        RodEnd::On(f) => {
+            let p = spec
+                .primitives
+                .iter()
+                .find(|p| p.name == f.primitive)
+                .ok_or_else(|| anyhow!("{field}.primitive: no primitive named {:?}", f.primitive))?;
+            Ok(point_on(p, &f.unit(&p.size, field)?))
+        }
+    }
+}
+
+/// Both ends of `[[rod]]` number `i`, design frame, m.
+pub fn rod_ends(spec: &KiteSpec, i: usize, r: &RodSpec) -> Result<[Vector3<f64>; 2]> {
+    Ok([
+        end_point(spec, &r.from, &format!("rod[{i}].from"))?,
+        end_point(spec, &r.to, &format!("rod[{i}].to"))?,
+    ])
 }
 
 /// The frame rods of a box (12 edges) or plate (4 edges).
@@ -125,8 +160,9 @@ pub fn panels(p: &PrimitiveSpec) -> Vec<Panel> {
     }
 }
 
-/// Every rod of the kite: primitive frames, then `[[rod]]`s.
-pub fn all_rods(spec: &KiteSpec) -> Vec<Rod> {
+/// Every rod of the kite: primitive frames, then `[[rod]]`s (their named
+/// ends resolved).
+pub fn all_rods(spec: &KiteSpec) -> Result<Vec<Rod>> {
     let d = spec.materials.rod_diameter;
     let mut rods: Vec<Rod> = spec
         .primitives
@@ -134,14 +170,18 @@ pub fn all_rods(spec: &KiteSpec) -> Vec<Rod> {
         .flat_map(|p| frame_rods(p, d))
         .collect();
     for (i, r) in spec.rods.iter().enumerate() {
+        let [a, b] = rod_ends(spec, i, r)?;
+        if (b - a).norm() < 1e-3 {
+            bail!("rod[{i}]: `from` and `to` are the same point");
+        }
         rods.push(Rod {
-            a: Vector3::from(r.from),
-            b: Vector3::from(r.to),
+            a,
+            b,
             diameter: r.diameter.unwrap_or(d),
             label: format!("rod[{i}]"),
         });
     }
-    rods
+    Ok(rods)
 }
 
 /// Pairs of primitives whose silhouettes, seen along the wind direction

@@ -36,6 +36,7 @@ pub mod modes;
 pub mod optimise;
 mod settle;
 pub mod sockets;
+pub mod rod_end;
 pub mod spec;
 mod tether;
 pub mod trimming;

@@ -2,6 +2,7 @@
 //! for the documented format. Parsing rejects unknown fields; validation
 //! names the offending field (`primitive[1].size`, `string.gamma`, ...).
 
+use crate::rod_end::RodEnd;
 use anyhow::{bail, Context, Result};
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
@@ -193,14 +194,16 @@ fn yes() -> bool {
     true
 }
 
-/// `[[rod]]`: a straight rod between two points (design frame, m).
+/// `[[rod]]`: a straight rod between two ends, each a named corner or
+/// edge point of a primitive (or, in old files, a design-frame point);
+/// see [`crate::rod_end`].
 #[derive(Clone, Debug, PartialEq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct RodSpec {
-    /// One end, m.
-    pub from: [f64; 3],
-    /// Other end, m.
-    pub to: [f64; 3],
+    /// One end.
+    pub from: RodEnd,
+    /// Other end.
+    pub to: RodEnd,
     /// Diameter, m (default `materials.rod_diameter`).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub diameter: Option<f64>,
@@ -263,18 +266,45 @@ impl KiteSpec {
             }
         }
         for (i, r) in self.rods.iter().enumerate() {
-            all_finite(&format!("rod[{i}].from"), &r.from)?;
-            all_finite(&format!("rod[{i}].to"), &r.to)?;
-            let len: f64 = (0..3)
-                .map(|k| (r.to[k] - r.from[k]).powi(2))
-                .sum::<f64>()
-                .sqrt();
-            if len < 1e-3 {
-                bail!("rod[{i}]: `from` and `to` are the same point");
+            self.validate_rod(i, r)?;
+        }
+        Ok(())
+    }
+
+    /// A `[[rod]]`: both ends name a primitive of this kite and a corner
+    /// or edge it has (or are finite points), and are not the same point.
+    fn validate_rod(&self, i: usize, r: &RodSpec) -> Result<()> {
+        let mut units = Vec::new();
+        for (end, which) in [(&r.from, "from"), (&r.to, "to")] {
+            let field = format!("rod[{i}].{which}");
+            match end {
+                RodEnd::Point(p) => all_finite(&field, p)?,
+                RodEnd::On(f) => {
+                    let Some(p) = self.primitives.iter().find(|p| p.name == f.primitive) else {
+                        let names: Vec<&str> =
+                            self.primitives.iter().map(|p| p.name.as_str()).collect();
+                        bail!(
+                            "{field}.primitive: no primitive named {:?} (the kite has: {})",
+                            f.primitive,
+                            names.join(", ")
+                        );
+                    };
+                    units.push((&f.primitive, f.unit(&p.size, &field)?));
+                }
             }
-            if let Some(d) = r.diameter {
-                positive(&format!("rod[{i}].diameter"), d)?;
+        }
+        let same = match (&r.from, &r.to, &units[..]) {
+            (RodEnd::Point(a), RodEnd::Point(b), _) => {
+                (0..3).map(|k| (b[k] - a[k]).powi(2)).sum::<f64>() < 1e-6
             }
+            (_, _, [(pa, ua), (pb, ub)]) => pa == pb && (ua - ub).norm() < 1e-9,
+            _ => false,
+        };
+        if same {
+            bail!("rod[{i}]: `from` and `to` are the same point");
+        }
+        if let Some(d) = r.diameter {
+            positive(&format!("rod[{i}].diameter"), d)?;
         }
         Ok(())
     }

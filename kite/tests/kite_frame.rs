@@ -9,6 +9,7 @@ use nalgebra::Vector3;
 use omniad_kite::check::{check, Verdict};
 use omniad_kite::connect::{move_primitive, pieces};
 use omniad_kite::flight::{fly, FlightOptions, Outcome};
+use omniad_kite::geometry::rod_ends;
 use omniad_kite::sockets::inset_mm;
 use omniad_kite::{export, Design, KiteSpec};
 
@@ -20,7 +21,12 @@ fn assemble(spec: KiteSpec) -> Design {
 #[test]
 fn a_cell_without_rods_to_the_rest_is_refused_by_name() {
     let mut spec = common::kite("box-three-cell").spec;
-    spec.rods.retain(|r| r.to[0] < 0.0 && r.from[0] < 0.0);
+    // Keep the rods with both ends in front (x < 0): the rear cell loses its.
+    let front: Vec<bool> = (spec.rods.iter().enumerate())
+        .map(|(i, r)| rod_ends(&spec, i, r).expect("resolves")[..].iter().all(|e| e.x < 0.0))
+        .collect();
+    let mut keep = front.into_iter();
+    spec.rods.retain(|_| keep.next().unwrap_or(true));
     let c = check(&assemble(spec), None).expect("check");
     assert_eq!(
         c.verdict,
@@ -75,7 +81,12 @@ fn moving_a_primitive_carries_its_rods() {
     move_primitive(&mut spec, 1, &turn, &Vector3::new(0.0, -0.08, 0.0));
     assert_eq!(pieces(&spec), 1);
     let before = common::kite("fig15-b").spec;
-    assert!(spec.rods.iter().zip(&before.rods).any(|(a, b)| a != b));
+    let ends = |s: &KiteSpec| -> Vec<_> {
+        (s.rods.iter().enumerate())
+            .map(|(i, r)| rod_ends(s, i, r).expect("resolves"))
+            .collect()
+    };
+    assert!(ends(&spec).iter().zip(ends(&before)).any(|(a, b)| *a != b));
     let q1 = rotation_from_degrees(&spec.primitives[1].rotation);
     assert!(
         (q1 - turn * q0).norm() < 1e-9,
