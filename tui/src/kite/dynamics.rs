@@ -18,7 +18,9 @@ use ratatui::widgets::{Block, Paragraph, Widget};
 /// The check's warnings about the geometry, one line each: pairs of
 /// primitives overlapping along the wind (one shadows the other, which
 /// the paper's sum of independent primitives does not model) and parts
-/// of the frame not joined to the rest.
+/// of the frame not joined to the rest, and rods of an old file whose
+/// ends are coordinates rather than named corners (they do not follow a
+/// moved primitive).
 pub fn warnings(a: &CheckReport) -> Vec<String> {
     let mut out: Vec<String> = a
         .overlaps
@@ -27,6 +29,12 @@ pub fn warnings(a: &CheckReport) -> Vec<String> {
         .collect();
     if !a.unjoined.is_empty() {
         out.push(format!("⚠ not joined: {}", a.unjoined.join(", ")));
+    }
+    if !a.joined_by_coordinates.is_empty() {
+        out.push(format!(
+            "⚠ joined by coordinates, not named corners: {}",
+            a.joined_by_coordinates.join(", ")
+        ));
     }
     out
 }

@@ -2,13 +2,14 @@
 //! [`KiteSpec`]: select, add, move/rotate/scale, remove a primitive,
 //! the kite's roll, pitch and yaw, wind speed and the attachment point
 //! along the string; `o` / `u` run the optimiser / restore
-//! ([`super::optimiser`]). Moving or turning a primitive carries the
-//! `[[rod]]` ends sitting on it (the kite crate's
-//! [`omniad_kite::connect::move_primitive`]), so the frame stays joined.
+//! ([`super::optimiser`]). Rod ends naming a primitive's corner follow
+//! it when it is moved, turned or scaled; old coordinate ends sitting on
+//! it are carried by the kite crate's
+//! [`omniad_kite::connect::move_primitive`], so the frame stays joined.
 
 use super::{KiteView, Tool};
 use nalgebra::Vector3;
-use omniad_kite::connect::move_primitive;
+use omniad_kite::connect::{move_primitive, remove_primitive};
 use omniad_kite::geometry::rotation_from_degrees;
 use omniad_kite::spec::{Kind, PrimitiveSpec};
 
@@ -141,10 +142,11 @@ impl KiteView {
     }
 
     pub(super) fn remove(&mut self) -> bool {
-        let parts = &mut self.spec.primitives;
-        if self.selected < parts.len() && parts.len() > 1 {
-            parts.remove(self.selected);
-            self.selected = self.selected.min(parts.len() - 1);
+        let n = self.spec.primitives.len();
+        if self.selected < n && n > 1 {
+            // Rod ends naming it stay where they were, by coordinates.
+            remove_primitive(&mut self.spec, self.selected);
+            self.selected = self.selected.min(n - 2);
         } else {
             self.message = "a kite keeps at least one primitive".into();
         }

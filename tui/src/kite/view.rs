@@ -7,6 +7,7 @@ use super::dynamics;
 use super::{KiteView, Tool};
 use crate::theme::Theme;
 use omniad_kite::check::{AxisReport, CheckReport};
+use omniad_kite::spec::KiteSpec;
 use ratatui::buffer::Buffer;
 use ratatui::layout::{Constraint, Layout, Rect};
 use ratatui::style::Style;
@@ -33,7 +34,7 @@ impl Widget for KiteWidget<'_> {
         let rows = (v.spec.primitives.len() as u16 + 2).clamp(3, 10);
         let [list, detail, side] = Layout::vertical([
             Constraint::Length(rows),
-            Constraint::Length(7),
+            Constraint::Length(8),
             Constraint::Fill(1),
         ])
         .areas(left);
@@ -148,11 +149,38 @@ fn render_detail(v: &KiteView, theme: Theme, area: Rect, buf: &mut Buffer) {
                 theme.title(),
             ),
         ]),
+        Line::from(vec![
+            Span::styled("rods ", theme.dim()),
+            Span::raw(joined_rods(&v.spec, &p.name)),
+        ]),
         Line::styled(v.message.clone(), theme.dim()),
     ];
     Paragraph::new(lines)
         .block(Block::bordered().title(Line::styled(format!(" {} ", p.name), theme.title())))
         .render(area, buf);
+}
+
+/// The `[[rod]]`s with an end on primitive `name`, as a builder reads
+/// them: `rod[0] +x+y-z→rear -x-y-z` (this primitive's corner, then the
+/// other end). Rods by coordinates name no primitive and are not listed.
+fn joined_rods(spec: &KiteSpec, name: &str) -> String {
+    let out: Vec<String> = (spec.rods.iter().enumerate())
+        .flat_map(|(k, r)| {
+            [(&r.from, &r.to), (&r.to, &r.from)]
+                .into_iter()
+                .filter(|(own, _)| own.primitive() == Some(name))
+                .map(move |(own, other)| {
+                    let mine = own.describe();
+                    let mine = mine.strip_prefix(name).unwrap_or(&mine).trim_start();
+                    format!("rod[{k}] {mine}→{}", other.describe())
+                })
+        })
+        .collect();
+    if out.is_empty() {
+        "none named".into()
+    } else {
+        out.join(", ")
+    }
 }
 
 fn render_equilibrium(v: &KiteView, a: &CheckReport, theme: Theme, area: Rect, buf: &mut Buffer) {
