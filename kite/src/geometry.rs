@@ -70,7 +70,11 @@ pub fn point_on(p: &PrimitiveSpec, unit: &Vector3<f64>) -> Vector3<f64> {
 
 /// The eight (or four, for `l_z = 0`) corners of a primitive, design frame.
 pub fn corners(p: &PrimitiveSpec) -> Vec<Vector3<f64>> {
-    let zs: &[f64] = if p.size[2] > 0.0 { &[-1.0, 1.0] } else { &[0.0] };
+    let zs: &[f64] = if p.size[2] > 0.0 {
+        &[-1.0, 1.0]
+    } else {
+        &[0.0]
+    };
     let mut out = Vec::new();
     for &sx in &[-1.0, 1.0] {
         for &sy in &[-1.0, 1.0] {
@@ -93,7 +97,9 @@ pub fn end_point(spec: &KiteSpec, end: &RodEnd, field: &str) -> Result<Vector3<f
                 .primitives
                 .iter()
                 .find(|p| p.name == f.primitive)
-                .ok_or_else(|| anyhow!("{field}.primitive: no primitive named {:?}", f.primitive))?;
+                .ok_or_else(|| {
+                    anyhow!("{field}.primitive: no primitive named {:?}", f.primitive)
+                })?;
             Ok(point_on(p, &f.unit(&p.size, field)?))
         }
     }

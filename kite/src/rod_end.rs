@@ -130,9 +130,15 @@ fn parse_signs(text: &str) -> std::result::Result<[f64; 3], String> {
         let s = match sign {
             '+' => 1.0,
             '-' => -1.0,
-            other => return Err(format!("{text:?}: expected + or - before an axis, found {other:?}")),
+            other => {
+                return Err(format!(
+                    "{text:?}: expected + or - before an axis, found {other:?}"
+                ))
+            }
         };
-        let axis = chars.next().and_then(|a| AXES.iter().position(|&x| x == a.to_ascii_lowercase()));
+        let axis = chars
+            .next()
+            .and_then(|a| AXES.iter().position(|&x| x == a.to_ascii_lowercase()));
         let Some(k) = axis else {
             return Err(format!("{text:?}: expected x, y or z after the sign"));
         };
@@ -158,7 +164,8 @@ impl<'de> Deserialize<'de> for RodEnd {
                 f.write_str("a table { primitive = \"name\", corner = \"+x-y+z\" } (or edge = \"+x+y\", at = 0.5), or an old-style point [x, y, z]")
             }
             fn visit_seq<A: SeqAccess<'de>>(self, seq: A) -> std::result::Result<RodEnd, A::Error> {
-                <[f64; 3]>::deserialize(de::value::SeqAccessDeserializer::new(seq)).map(RodEnd::Point)
+                <[f64; 3]>::deserialize(de::value::SeqAccessDeserializer::new(seq))
+                    .map(RodEnd::Point)
             }
             fn visit_map<A: MapAccess<'de>>(self, map: A) -> std::result::Result<RodEnd, A::Error> {
                 Feature::deserialize(de::value::MapAccessDeserializer::new(map)).map(RodEnd::On)

@@ -23,7 +23,11 @@ fn a_cell_without_rods_to_the_rest_is_refused_by_name() {
     let mut spec = common::kite("box-three-cell").spec;
     // Keep the rods with both ends in front (x < 0): the rear cell loses its.
     let front: Vec<bool> = (spec.rods.iter().enumerate())
-        .map(|(i, r)| rod_ends(&spec, i, r).expect("resolves")[..].iter().all(|e| e.x < 0.0))
+        .map(|(i, r)| {
+            rod_ends(&spec, i, r).expect("resolves")[..]
+                .iter()
+                .all(|e| e.x < 0.0)
+        })
         .collect();
     let mut keep = front.into_iter();
     spec.rods.retain(|_| keep.next().unwrap_or(true));

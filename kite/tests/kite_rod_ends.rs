@@ -42,33 +42,69 @@ fn err(text: &str) -> String {
 fn bad_rod_ends_are_errors_naming_the_rod_and_field() {
     let corner = r#"{ primitive = "lead", corner = "+x+y+z" }"#;
     let cases = [
-        (r#"{ primitive = "leed", corner = "+x+y+z" }"#, "rod[0].to.primitive"),
-        (r#"{ primitive = "lead", corner = "+x+y" }"#, "rod[0].to.corner"),
-        (r#"{ primitive = "lead", corner = "+x+q+z" }"#, "rod[0].to.corner"),
-        (r#"{ primitive = "lead", corner = "+x+x+z" }"#, "rod[0].to.corner"),
+        (
+            r#"{ primitive = "leed", corner = "+x+y+z" }"#,
+            "rod[0].to.primitive",
+        ),
+        (
+            r#"{ primitive = "lead", corner = "+x+y" }"#,
+            "rod[0].to.corner",
+        ),
+        (
+            r#"{ primitive = "lead", corner = "+x+q+z" }"#,
+            "rod[0].to.corner",
+        ),
+        (
+            r#"{ primitive = "lead", corner = "+x+x+z" }"#,
+            "rod[0].to.corner",
+        ),
         (r#"{ primitive = "lead", edge = "+x" }"#, "rod[0].to.edge"),
-        (r#"{ primitive = "lead", edge = "+x+y+z" }"#, "rod[0].to.edge"),
-        (r#"{ primitive = "lead", edge = "+x+y", at = 1.5 }"#, "rod[0].to.at"),
-        (r#"{ primitive = "lead", edge = "+x+y", at = -0.1 }"#, "rod[0].to.at"),
-        (r#"{ primitive = "lead", corner = "+x+y+z", at = 0.5 }"#, "rod[0].to.at"),
+        (
+            r#"{ primitive = "lead", edge = "+x+y+z" }"#,
+            "rod[0].to.edge",
+        ),
+        (
+            r#"{ primitive = "lead", edge = "+x+y", at = 1.5 }"#,
+            "rod[0].to.at",
+        ),
+        (
+            r#"{ primitive = "lead", edge = "+x+y", at = -0.1 }"#,
+            "rod[0].to.at",
+        ),
+        (
+            r#"{ primitive = "lead", corner = "+x+y+z", at = 0.5 }"#,
+            "rod[0].to.at",
+        ),
         (r#"{ primitive = "lead" }"#, "rod[0].to"),
         (r#"{ primitive = "lead", corner = "+x+y+z" }"#, "rod[0]"),
     ];
     for (to, field) in cases {
         let e = err(&kite(corner, to));
-        assert!(e.contains(field), "{to}: error {e:?} does not name {field:?}");
+        assert!(
+            e.contains(field),
+            "{to}: error {e:?} does not name {field:?}"
+        );
     }
     // An unknown key in the end's table is a TOML error with its line.
-    let e = err(&kite(corner, r#"{ primitive = "lead", corners = "+x+y+z" }"#));
+    let e = err(&kite(
+        corner,
+        r#"{ primitive = "lead", corners = "+x+y+z" }"#,
+    ));
     assert!(e.contains("corners") && e.contains("line"), "{e}");
     // Through the file loader the error names the file too.
     let dir = std::env::temp_dir().join(format!("omniad-rod-ends-{}", std::process::id()));
     std::fs::create_dir_all(&dir).expect("dir");
     let path = dir.join("bad.toml");
-    std::fs::write(&path, kite(corner, r#"{ primitive = "nope", corner = "+x+y+z" }"#))
-        .expect("write");
+    std::fs::write(
+        &path,
+        kite(corner, r#"{ primitive = "nope", corner = "+x+y+z" }"#),
+    )
+    .expect("write");
     let e = format!("{:#}", KiteSpec::load(&path).expect_err("refused"));
-    assert!(e.contains("bad.toml") && e.contains("rod[0].to.primitive") && e.contains("nope"), "{e}");
+    assert!(
+        e.contains("bad.toml") && e.contains("rod[0].to.primitive") && e.contains("nope"),
+        "{e}"
+    );
     let _ = std::fs::remove_dir_all(&dir);
 }
 
@@ -149,11 +185,17 @@ fn a_named_end_joins_its_primitive_and_coordinate_ends_are_reported() {
     let old = KiteSpec::parse(&text).expect("old form parses");
     let old = Design::assemble(old, &common::repo().join("data/kites"), &common::library())
         .expect("assembles");
-    let (c_new, c_old) = (check(&design, None).expect("check"), check(&old, None).expect("check"));
+    let (c_new, c_old) = (
+        check(&design, None).expect("check"),
+        check(&old, None).expect("check"),
+    );
     assert_eq!(c_new.verdict, c_old.verdict);
     assert!(c_new.joined_by_coordinates.is_empty());
     assert_eq!(c_old.joined_by_coordinates.len(), design.spec.rods.len());
-    assert!(c_old.reasons.iter().any(|r| r.contains("joined by coordinates")));
+    assert!(c_old
+        .reasons
+        .iter()
+        .any(|r| r.contains("joined by coordinates")));
 }
 
 #[test]
