@@ -59,11 +59,11 @@ pub struct GustReport {
     /// height, m.
     pub limits: [f64; 3],
     /// The smallest of the three margins as a fraction of its room at
-    /// rest: `(min_elevation - limit)/(elevation - limit)`, `1 -
-    /// max_spin/limit`, `(min_height - limit)/(height - limit)`. 1: no
+    /// rest: `(min_elevation - limit)/|elevation - limit|`, `1 -
+    /// max_spin/limit`, `(min_height - limit)/|height - limit|`. 1: no
     /// response; 0: at a limit; negative: past one.
     pub margin: f64,
-    /// Every predicted extreme is inside the flight's limits.
+    /// Every predicted extreme is inside the flight's limits (`margin > 0`).
     pub ok: bool,
 }
 
@@ -160,9 +160,14 @@ pub fn response(flight: &Flight, eq: &State<f64>, a: &StateMatrix, b: &InputMatr
     let min_elevation = at_rest - elevation.peak(half);
     let max_spin = spin_total.peak(half);
     let min_height = eq.position.z - height.peak(opts.seconds);
-    let margin = ((min_elevation - MIN_ELEVATION_DEG) / (at_rest - MIN_ELEVATION_DEG))
+    // Each room is taken as a magnitude, so a kite resting past a limit
+    // (a line below 15° at rest) has a negative margin.
+    let fraction = |extreme: f64, rest: f64, limit: f64| {
+        (extreme - limit) / (rest - limit).abs().max(f64::MIN_POSITIVE)
+    };
+    let margin = fraction(min_elevation, at_rest, MIN_ELEVATION_DEG)
         .min(1.0 - max_spin / MAX_SPIN)
-        .min((min_height - GROUND_CLEARANCE) / (eq.position.z - GROUND_CLEARANCE));
+        .min(fraction(min_height, eq.position.z, GROUND_CLEARANCE));
     GustReport {
         gust: opts.gust,
         elevation_deg: at_rest,
@@ -173,9 +178,7 @@ pub fn response(flight: &Flight, eq: &State<f64>, a: &StateMatrix, b: &InputMatr
         min_height,
         limits: [MIN_ELEVATION_DEG, MAX_SPIN, GROUND_CLEARANCE],
         margin,
-        ok: min_elevation > MIN_ELEVATION_DEG
-            && max_spin < MAX_SPIN
-            && min_height > GROUND_CLEARANCE,
+        ok: margin > 0.0,
     }
 }
 

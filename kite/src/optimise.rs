@@ -13,9 +13,9 @@
 //! flight's limits). Among designs whose modes all decay it climbs the
 //! gust margin of [`crate::gusts`] — how far the linear response to `kite
 //! fly`'s gusts stays from the flight's limits on line elevation, spin and
-//! height, as a fraction (1: unmoved; 0: at a limit) — plus
-//! 0.2 × the decay rate `-σ_max` (up to 1/s) to
-//! break ties; `stable` designs rank above `gust_sensitive` ones, and
+//! height, as a fraction (1: unmoved; 0: at a limit) — or, when smaller,
+//! the fraction of a disturbance the slowest mode removes over the 30 s
+//! the flight judges ([`settling`]); `stable` designs rank above `gust_sensitive` ones, and
 //! those above designs with a growing mode, which climb `-σ_max` (a slower
 //! growth is closer to flyable). Why the gust margin: the linear decay
 //! rate alone does not size the response to gusts; the search used to end
@@ -170,7 +170,7 @@ fn score(
         Verdict::StringPushes | Verdict::Unflyable | Verdict::Disconnected => -1e5,
     };
     let shaped = if gust_margin.is_finite() {
-        gust_margin.clamp(-5.0, 1.0) + GROWTH_WEIGHT * margin.min(1.0)
+        gust_margin.clamp(-5.0, 1.0).min(settling(margin))
     } else if margin.is_finite() {
         margin.clamp(-50.0, 50.0)
     } else {
@@ -185,10 +185,16 @@ fn score(
     })
 }
 
-/// Weight of the decay rate (1/s, up to 1/s) beside the gust margin among
-/// designs whose modes all decay: the gust margin decides, a faster decay
-/// breaks near-ties (a kite that recovers sooner from a gust).
-const GROWTH_WEIGHT: f64 = 0.2;
+/// The fraction of a disturbance the slowest mode removes over the span
+/// the flight judges (`1 - e^{-σ T}`, `σ` the decay rate, 1/s; `T` the
+/// second half of `kite fly`'s default run): 1 for a kite that settles
+/// well within it, near 0 for one whose slowest mode barely decays (the
+/// search used to trade the decay rate down to 0.001/s for a larger gust
+/// margin, and such kites crash on some seeds: BENCHMARKS, issue 17).
+fn settling(decay_rate: f64) -> f64 {
+    let span = FlightOptions::default().seconds / 2.0;
+    1.0 - (-decay_rate * span).exp()
+}
 
 /// The parameters: pitch (deg), offset (m), and per primitive a yaw and
 /// a roll change (deg) and a shift along the design frame's y (across the
