@@ -300,3 +300,35 @@ fn optimise_writes_a_loadable_kite_and_reports_changes() {
     assert!(out.status.success(), "{}", text(&out.stderr));
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// Issue 17 acceptance: `kite optimise` turns a design that crashes
+/// (`box-classic`: `dynamically_unstable`, its roll-yaw mode grows) into
+/// one that flies 60 s in 1 m/s gusts on seeds 1-3. Ignored because it is
+/// not met yet (measured with 300 evaluations, about 30 s release: the
+/// search reaches `stable` designs with a gust margin of +0.59 that crash
+/// on two of three seeds: a 1.4 Hz pitch + roll-yaw flutter damped at
+/// ζ = 0.02 that the gusts drive far past its linear response; see
+/// BENCHMARKS). Run with `cargo test --release --test kite_cli -- --ignored`.
+#[test]
+#[ignore = "not met yet: the optimiser's stable designs still crash on some seeds (BENCHMARKS, issue 17)"]
+fn optimise_makes_a_crashing_design_fly() {
+    let dir = std::env::temp_dir().join(format!("omniad-kite-cli-fly-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("tmp");
+    let out_file = dir.join("opt.toml");
+    let out = omniad()
+        .args(["kite", "optimise", "--json", "--evaluations", "300", "-o"])
+        .arg(&out_file)
+        .arg(kite("box-classic"))
+        .output()
+        .expect("run");
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).expect("json");
+    assert_eq!(v["before"]["verdict"], "dynamically_unstable");
+    assert_eq!(v["after"]["verdict"], "stable", "{v}");
+    let flights: Vec<&str> = v["flights"]
+        .as_array()
+        .map(|f| f.iter().filter_map(|o| o.as_str()).collect())
+        .unwrap_or_default();
+    assert_eq!(flights, ["flies"; 3], "{v}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
