@@ -266,22 +266,32 @@ fn verdict_agrees_with_the_flight_for_every_bundled_design() {
     );
 }
 
+/// Runs `kite optimise --json --evaluations N` on the bundled kite `name`
+/// into a fresh temporary folder (tagged `tag`): the folder, the written
+/// file and the JSON report.
+fn optimise(name: &str, evaluations: usize, tag: &str) -> (PathBuf, PathBuf, serde_json::Value) {
+    let dir = std::env::temp_dir().join(format!("omniad-kite-cli-{tag}-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("tmp");
+    let out_file = dir.join("opt.toml");
+    let out = omniad()
+        .args(["kite", "optimise", "--json", "--evaluations"])
+        .arg(evaluations.to_string())
+        .arg("-o")
+        .arg(&out_file)
+        .arg(kite(name))
+        .output()
+        .expect("run");
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let v = serde_json::from_slice(&out.stdout).expect("json");
+    (dir, out_file, v)
+}
+
 /// Issue 17: `kite optimise` reports before/after and each change, and
 /// writes a kite file that loads; the search never ends worse than the
 /// file.
 #[test]
 fn optimise_writes_a_loadable_kite_and_reports_changes() {
-    let dir = std::env::temp_dir().join(format!("omniad-kite-cli-opt-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).expect("tmp");
-    let out_file = dir.join("opt.toml");
-    let out = omniad()
-        .args(["kite", "optimise", "--json", "--evaluations", "12", "-o"])
-        .arg(&out_file)
-        .arg(kite("box-three-cell"))
-        .output()
-        .expect("run");
-    assert!(out.status.success(), "{}", text(&out.stderr));
-    let v: serde_json::Value = serde_json::from_slice(&out.stdout).expect("json");
+    let (dir, out_file, v) = optimise("box-three-cell", 12, "opt");
     assert!(v["changes"].is_array());
     let (b, a) = (&v["before"]["objective"], &v["after"]["objective"]);
     assert!(a.as_f64() >= b.as_f64(), "{b} -> {a}");
@@ -312,17 +322,7 @@ fn optimise_writes_a_loadable_kite_and_reports_changes() {
 #[test]
 #[ignore = "not met yet: the optimiser's stable designs still crash on some seeds (BENCHMARKS, issue 17)"]
 fn optimise_makes_a_crashing_design_fly() {
-    let dir = std::env::temp_dir().join(format!("omniad-kite-cli-fly-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).expect("tmp");
-    let out_file = dir.join("opt.toml");
-    let out = omniad()
-        .args(["kite", "optimise", "--json", "--evaluations", "300", "-o"])
-        .arg(&out_file)
-        .arg(kite("box-classic"))
-        .output()
-        .expect("run");
-    assert!(out.status.success(), "{}", text(&out.stderr));
-    let v: serde_json::Value = serde_json::from_slice(&out.stdout).expect("json");
+    let (dir, _, v) = optimise("box-classic", 300, "fly");
     assert_eq!(v["before"]["verdict"], "dynamically_unstable");
     assert_eq!(v["after"]["verdict"], "stable", "{v}");
     let flights: Vec<&str> = v["flights"]
