@@ -266,22 +266,32 @@ fn verdict_agrees_with_the_flight_for_every_bundled_design() {
     );
 }
 
+/// Runs `kite optimise --json --evaluations N` on the bundled kite `name`
+/// into a fresh temporary folder (tagged `tag`): the folder, the written
+/// file and the JSON report.
+fn optimise(name: &str, evaluations: usize, tag: &str) -> (PathBuf, PathBuf, serde_json::Value) {
+    let dir = std::env::temp_dir().join(format!("omniad-kite-cli-{tag}-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("tmp");
+    let out_file = dir.join("opt.toml");
+    let out = omniad()
+        .args(["kite", "optimise", "--json", "--evaluations"])
+        .arg(evaluations.to_string())
+        .arg("-o")
+        .arg(&out_file)
+        .arg(kite(name))
+        .output()
+        .expect("run");
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let v = serde_json::from_slice(&out.stdout).expect("json");
+    (dir, out_file, v)
+}
+
 /// Issue 17: `kite optimise` reports before/after and each change, and
 /// writes a kite file that loads; the search never ends worse than the
 /// file.
 #[test]
 fn optimise_writes_a_loadable_kite_and_reports_changes() {
-    let dir = std::env::temp_dir().join(format!("omniad-kite-cli-opt-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).expect("tmp");
-    let out_file = dir.join("opt.toml");
-    let out = omniad()
-        .args(["kite", "optimise", "--json", "--evaluations", "12", "-o"])
-        .arg(&out_file)
-        .arg(kite("box-three-cell"))
-        .output()
-        .expect("run");
-    assert!(out.status.success(), "{}", text(&out.stderr));
-    let v: serde_json::Value = serde_json::from_slice(&out.stdout).expect("json");
+    let (dir, out_file, v) = optimise("box-three-cell", 12, "opt");
     assert!(v["changes"].is_array());
     let (b, a) = (&v["before"]["objective"], &v["after"]["objective"]);
     assert!(a.as_f64() >= b.as_f64(), "{b} -> {a}");
@@ -298,5 +308,27 @@ fn optimise_writes_a_loadable_kite_and_reports_changes() {
         .output()
         .expect("run");
     assert!(out.status.success(), "{}", text(&out.stderr));
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Issue 17 acceptance: `kite optimise` turns a design that crashes
+/// (`box-classic`: `dynamically_unstable`, its roll-yaw mode grows) into
+/// one that flies 60 s in 1 m/s gusts on seeds 1-3. Ignored because it is
+/// not met yet (measured with 300 evaluations, about 30 s release: the
+/// search reaches `stable` designs with a gust margin of +0.59 that crash
+/// on two of three seeds: a 1.4 Hz pitch + roll-yaw flutter damped at
+/// ζ = 0.02 that the gusts drive far past its linear response; see
+/// BENCHMARKS). Run with `cargo test --release --test kite_cli -- --ignored`.
+#[test]
+#[ignore = "not met yet: the optimiser's stable designs still crash on some seeds (BENCHMARKS, issue 17)"]
+fn optimise_makes_a_crashing_design_fly() {
+    let (dir, _, v) = optimise("box-classic", 300, "fly");
+    assert_eq!(v["before"]["verdict"], "dynamically_unstable");
+    assert_eq!(v["after"]["verdict"], "stable", "{v}");
+    let flights: Vec<&str> = v["flights"]
+        .as_array()
+        .map(|f| f.iter().filter_map(|o| o.as_str()).collect())
+        .unwrap_or_default();
+    assert_eq!(flights, ["flies"; 3], "{v}");
     let _ = std::fs::remove_dir_all(&dir);
 }

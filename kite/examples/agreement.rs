@@ -3,7 +3,11 @@
 //! `--pitch` degrees, and with the offset moved by `--offset` metres, each
 //! flown 60 s in 1 m/s gusts on seeds 1-3.
 //! `cargo run --release -p omniad-kite --example agreement -- data/kites/*.toml`
-//! prints one row per variant and the count of disagreements.
+//! prints one row per variant (verdict, largest growth rate, the gust
+//! response's predicted lowest line elevation / largest spin, each seed's
+//! outcome, `*` where it disagrees) and the count of disagreements;
+//! `WHY=1` prints each disagreement's flight (mean and lowest elevation,
+//! largest spin) on stderr.
 
 use omniad_kite::{check, flight, spec::StringSpec, Design, Library};
 
@@ -43,12 +47,18 @@ fn main() -> anyhow::Result<()> {
     for path in &files {
         let design = Design::load(std::path::Path::new(path), &library)?;
         for (label, v) in variants(&design)? {
-            let (verdict, growth) = match check::check(&v, None) {
-                Ok(c) => (c.verdict.name().to_string(), c.modes.max_growth_rate),
-                Err(e) => (format!("error: {e}"), f64::NAN),
+            let (verdict, growth, gust) = match check::check(&v, None) {
+                Ok(c) => (
+                    c.verdict.name().to_string(),
+                    c.modes.max_growth_rate,
+                    c.modes.gusts.map_or(String::from("-"), |g| {
+                        format!("{:.0}°/{:.1}", g.min_elevation_deg, g.max_spin)
+                    }),
+                ),
+                Err(e) => (format!("error: {e}"), f64::NAN, String::new()),
             };
             let mut row = format!(
-                "{:<22} {label:<12} {verdict:<20} {growth:+.3}",
+                "{:<22} {label:<12} {verdict:<20} {growth:+.3} {gust:<9}",
                 design.spec.name
             );
             for seed in 1..=3 {
@@ -59,7 +69,10 @@ fn main() -> anyhow::Result<()> {
                 let (outcome, why) = match flight::fly(&v, &opts) {
                     Ok(f) => (
                         format!("{:?}", f.outcome).to_lowercase(),
-                        format!("{} (elev mean {:.0}°)", f.reason, f.mean_elevation_deg),
+                        format!(
+                            "{} (elev mean {:.0}°, min {:.0}°, spin <= {:.1})",
+                            f.reason, f.mean_elevation_deg, f.min_elevation_deg, f.max_spin
+                        ),
                     ),
                     Err(e) => ("crashes".to_string(), format!("{e}")),
                 };

@@ -209,6 +209,7 @@ pub fn check_at(
         equilibrium: equilibrium.is_some(),
         statically_stable: statics.stable,
         dynamically_stable: modes.stable,
+        gust_tolerant: modes.gusts.as_ref().is_some_and(|g| g.ok),
     });
     let mut reasons = frame_reasons(design, &unjoined);
     reasons.extend(reasons_after_frame(
@@ -328,6 +329,12 @@ fn reasons_after_frame(
         reasons.push(format!(
             "dynamically unstable: {} mode grows at {:+.3}/s",
             m.motion, m.real
+        ));
+    }
+    if let Some(g) = modes.gusts.as_ref().filter(|g| !g.ok) {
+        reasons.push(format!(
+            "gust sensitive: {} m/s gusts are predicted to take the line down to {:.1}° (limit {:.0}°), the spin up to {:.2} rad/s (limit {:.1}), the kite down to {:.2} m (limit {:.1})",
+            g.gust, g.min_elevation_deg, g.limits[0], g.max_spin, g.limits[1], g.min_height, g.limits[2]
         ));
     }
     reasons

@@ -138,15 +138,13 @@ fn relax_stretch(flight: &Flight, mut s: State<f64>) -> State<f64> {
 fn finish(flight: &Flight, s: State<f64>, start: &State<f64>) -> Option<Equilibrium> {
     let line = flight.line();
     let tension = line.force(&s).norm();
-    let at = s.position + s.orientation.transform_vector(&line.attachment) - line.anchor;
-    let horizontal = (at.x * at.x + at.y * at.y).sqrt();
     if !(tension > 0.0) || s.position.z < crate::flight_step::GROUND_CLEARANCE {
         return None;
     }
     Some(Equilibrium {
         state: s,
         tension,
-        elevation_deg: at.z.atan2(horizontal).to_degrees(),
+        elevation_deg: line.elevation_deg(&s),
         turn_deg: start.orientation.angle_to(&s.orientation).to_degrees(),
     })
 }

@@ -153,15 +153,41 @@ impl Flight {
         })
     }
 
+    /// [`Flight::rate`] in the steady wind `wind` (world frame, m/s)
+    /// instead of the flight's: the gust input of the linearisation
+    /// ([`crate::gusts`]).
+    pub fn rate_in_wind(&self, state: &State<f64>, wind: &Vector3<f64>) -> StateRate<f64> {
+        let steady = Wind::steady(*wind);
+        self.with_wind(&steady, |tether| {
+            state_rate(
+                &self.body,
+                &self.env.gravity,
+                state,
+                &tether.wrench(0.0, state),
+            )
+        })
+    }
+
     /// Runs `f` with the forces on the kite (air and line) now.
     fn with_tether<R>(&self, f: impl FnOnce(&Tether) -> R) -> R {
+        self.with_wind(&self.wind, f)
+    }
+
+    /// Runs `f` with the forces on the kite in the wind field `wind`.
+    fn with_wind<R>(&self, wind: &Wind, f: impl FnOnce(&Tether) -> R) -> R {
         let prims = self.design.primitives();
         f(&Tether {
             primitives: &prims,
             line: &self.line,
-            wind: &self.wind,
+            wind,
             air_density: self.design.spec.wind.air_density,
         })
+    }
+
+    /// The mean wind, world frame, m/s, and the gust spectrum
+    /// ([`Wind::spectrum`]) of this flight's gust strength.
+    pub fn wind_model(&self) -> &Wind {
+        &self.wind
     }
 
     /// Restarts the flight at `state` (time unchanged): the launch
@@ -234,16 +260,13 @@ impl Flight {
     pub fn sample(&self) -> Sample {
         let (s, t) = (&self.state, self.time());
         let (roll, pitch, yaw) = s.orientation.euler_angles();
-        let at =
-            s.position + s.orientation.transform_vector(&self.line.attachment) - self.line.anchor;
-        let horizontal = (at.x * at.x + at.y * at.y).sqrt();
         Sample {
             t,
             position: s.position.into(),
             attitude_deg: [roll, pitch, yaw].map(f64::to_degrees),
             spin: s.angular_velocity.norm(),
             tension: self.line.force(s).norm(),
-            elevation_deg: at.z.atan2(horizontal).to_degrees(),
+            elevation_deg: self.line.elevation_deg(s),
             wind: self.wind.at(t).into(),
         }
     }

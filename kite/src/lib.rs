@@ -27,6 +27,7 @@ pub mod flight;
 mod flight_step;
 pub mod generate;
 pub mod geometry;
+pub mod gusts;
 pub mod joints;
 pub mod launch;
 pub mod library;

@@ -13,8 +13,8 @@
 //! block is read from the model's quaternion rate as `2 vec(q̄ q̇)`.
 
 use crate::flight_step::Flight;
-use nalgebra::{Complex, Quaternion, SMatrix, SVector, UnitQuaternion};
-use omniad_core::rigid_body::State;
+use nalgebra::{Complex, Quaternion, SMatrix, SVector, UnitQuaternion, Vector3};
+use omniad_core::rigid_body::{State, StateRate};
 
 /// Number of tangent coordinates.
 pub const STATES: usize = 12;
@@ -46,7 +46,34 @@ pub fn perturb(base: &State<f64>, x: &Tangent) -> State<f64> {
 /// `ẋ` at `base + x` from the flight model's own state derivative.
 pub fn tangent_rate(flight: &Flight, base: &State<f64>, x: &Tangent) -> Tangent {
     let s = perturb(base, x);
-    let r = flight.rate(0.0, &s);
+    as_tangent(&s, &flight.rate(0.0, &s))
+}
+
+/// Gust inputs: the three wind components (world x, y, z).
+pub const INPUTS: usize = 3;
+/// The input matrix `B = ∂ẋ/∂w`, columns per world wind component.
+pub type InputMatrix = SMatrix<f64, STATES, INPUTS>;
+
+/// `B = ∂ẋ/∂w` at `base`: how a change `w` (m/s, world frame) of the
+/// steady wind drives the tangent state, by central differences of the
+/// same model ([`Flight::rate_in_wind`]) about the flight's mean wind,
+/// with the step of [`STEP`] scaled to m/s.
+pub fn input_matrix(flight: &Flight, base: &State<f64>) -> InputMatrix {
+    let mean = flight.wind_model().mean;
+    let h = STEP * mean.norm().max(1.0);
+    let mut b = InputMatrix::zeros();
+    for j in 0..INPUTS {
+        let mut e = Vector3::zeros();
+        e[j] = h;
+        let plus = as_tangent(base, &flight.rate_in_wind(base, &(mean + e)));
+        let minus = as_tangent(base, &flight.rate_in_wind(base, &(mean - e)));
+        b.set_column(j, &((plus - minus) / (2.0 * h)));
+    }
+    b
+}
+
+/// A state rate as a tangent rate at `s`.
+fn as_tangent(s: &State<f64>, r: &StateRate<f64>) -> Tangent {
     let q: Quaternion<f64> = *s.orientation.quaternion();
     let body_rate = (q.conjugate() * r.orientation) * 2.0;
     let mut out = Tangent::zeros();
@@ -97,7 +124,7 @@ mod tests {
     use super::*;
     use crate::flight::FlightOptions;
     use crate::{Design, Library};
-    use nalgebra::{Matrix3, Vector3};
+    use nalgebra::Matrix3;
 
     fn classic() -> (Flight, State<f64>) {
         let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..");

@@ -16,7 +16,8 @@
 
 use crate::equilibrium::Equilibrium;
 use crate::flight_step::{Flight, FlightOptions};
-use crate::linearise::{eigenvector, state_matrix, CVector, StateMatrix};
+use crate::gusts::{response, GustReport};
+use crate::linearise::{eigenvector, input_matrix, state_matrix, CVector, StateMatrix};
 use crate::settle::settled_equilibrium;
 use crate::Design;
 use anyhow::Result;
@@ -76,6 +77,10 @@ pub struct ModesReport {
     pub max_growth_rate: f64,
     /// An equilibrium exists and every mode decays.
     pub stable: bool,
+    /// The predicted response to `kite fly`'s gusts ([`crate::gusts`]);
+    /// `None` unless every mode decays (a growing mode has no steady
+    /// response).
+    pub gusts: Option<GustReport>,
 }
 
 impl ModesReport {
@@ -86,6 +91,7 @@ impl ModesReport {
             modes: Vec::new(),
             max_growth_rate: f64::NAN,
             stable: false,
+            gusts: None,
         }
     }
 }
@@ -113,6 +119,8 @@ pub fn analyse(design: &Design, wind: Option<f64>) -> Result<(Option<Equilibrium
         .map(|m| m.real)
         .fold(f64::NEG_INFINITY, f64::max);
     let (x, y, z) = eq.state.orientation.euler_angles();
+    let stable = modes.iter().all(|m| m.stable);
+    let gusts = stable.then(|| response(&flight, &eq.state, &a, &input_matrix(&flight, &eq.state)));
     let report = ModesReport {
         equilibrium: Some(EquilibriumReport {
             elevation_deg: eq.elevation_deg,
@@ -120,7 +128,8 @@ pub fn analyse(design: &Design, wind: Option<f64>) -> Result<(Option<Equilibrium
             orientation_deg: [x, y, z].map(f64::to_degrees),
             turn_deg: eq.turn_deg,
         }),
-        stable: modes.iter().all(|m| m.stable),
+        stable,
+        gusts,
         max_growth_rate: max,
         modes,
     };
@@ -242,6 +251,9 @@ pub fn render(r: &ModesReport) -> String {
     );
     for line in lines(r) {
         s += &format!("    {line}\n");
+    }
+    if let Some(g) = &r.gusts {
+        s += &crate::gusts::render(g);
     }
     s
 }

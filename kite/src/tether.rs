@@ -35,6 +35,14 @@ pub struct Line {
 }
 
 impl Line {
+    /// Elevation of the attachment point seen from the anchor, degrees:
+    /// what the flight's outcome judges ([`crate::flight`]).
+    pub fn elevation_deg(&self, s: &State<f64>) -> f64 {
+        let at = s.position + s.orientation.transform_vector(&self.attachment) - self.anchor;
+        let horizontal = (at.x * at.x + at.y * at.y).sqrt();
+        at.z.atan2(horizontal).to_degrees()
+    }
+
     /// The string's force on the kite, world frame, N.
     pub fn force(&self, s: &State<f64>) -> Vector3<f64> {
         let r = s.orientation;

@@ -15,7 +15,10 @@
 //!    symmetric-part test, which is still reported) — else
 //!    `statically_unstable`;
 //! 5. every mode of the linearised tethered kite decays
-//!    ([`crate::modes`]) — else `dynamically_unstable`.
+//!    ([`crate::modes`]) — else `dynamically_unstable`;
+//! 6. the gusts of `kite fly` keep it inside the flight's limits: the
+//!    linear gust response's expected extremes of line elevation, spin and
+//!    height ([`crate::gusts`]) — else `gust_sensitive`.
 
 use serde::Serialize;
 
@@ -37,6 +40,9 @@ pub enum Verdict {
     StaticallyUnstable,
     /// A growing mode of the linearised tethered kite.
     DynamicallyUnstable,
+    /// Every mode decays, but the gusts are predicted to swing the kite
+    /// past the flight's limits (line too low, spinning, on the ground).
+    GustSensitive,
 }
 
 impl Verdict {
@@ -50,6 +56,7 @@ impl Verdict {
             Self::NoEquilibrium => "no_equilibrium",
             Self::StaticallyUnstable => "statically_unstable",
             Self::DynamicallyUnstable => "dynamically_unstable",
+            Self::GustSensitive => "gust_sensitive",
         }
     }
 }
@@ -68,6 +75,8 @@ pub struct Tests {
     pub statically_stable: bool,
     /// Every mode decays.
     pub dynamically_stable: bool,
+    /// The predicted gust response stays inside the flight's limits.
+    pub gust_tolerant: bool,
 }
 
 /// The first failing test, or `Stable`.
@@ -84,6 +93,8 @@ pub fn verdict(t: &Tests) -> Verdict {
         Verdict::StaticallyUnstable
     } else if !t.dynamically_stable {
         Verdict::DynamicallyUnstable
+    } else if !t.gust_tolerant {
+        Verdict::GustSensitive
     } else {
         Verdict::Stable
     }

@@ -85,6 +85,27 @@ impl Wind {
         }
     }
 
+    /// A steady wind `v` (world frame, m/s) without gusts: the gust
+    /// response ([`crate::gusts`]) differentiates the flight model's
+    /// wrench with respect to the wind through it.
+    pub fn steady(v: Vector3<f64>) -> Self {
+        Self {
+            mean: v,
+            modes: [Vec::new(), Vec::new(), Vec::new()],
+        }
+    }
+
+    /// The gust spectrum as sampled: per component (along-wind,
+    /// crosswind, vertical) each sinusoid's `(amplitude m/s, frequency
+    /// Hz)`. The amplitudes do not depend on the seed (only the phases
+    /// do), so a linear model's response variance is the same on every
+    /// seed: `Σ |G(i 2π f)|² a²/2`.
+    pub fn spectrum(&self) -> [Vec<(f64, f64)>; 3] {
+        self.modes
+            .each_ref()
+            .map(|m| m.iter().map(|&(a, f, _)| (a, f)).collect())
+    }
+
     /// Wind velocity at time `t` (s), world frame, m/s.
     pub fn at(&self, t: f64) -> Vector3<f64> {
         let tau = 2.0 * std::f64::consts::PI * t;

@@ -1,0 +1,239 @@
+//! The gust response of the linearised tethered kite: how far the gusts
+//! of `kite fly` ([`crate::wind`]) swing a kite whose modes all decay,
+//! sized from the same linearisation as the modes and compared with the
+//! flight's own outcome limits ([`MIN_ELEVATION_DEG`], [`MAX_SPIN`],
+//! [`GROUND_CLEARANCE`]).
+//!
+//! Why: a decaying mode says a small disturbance dies out, not how large
+//! the motion the gusts keep driving is. A kite damped at 0.2/s whose
+//! equilibrium hangs at 25° line elevation is pushed below 15° by a 1 m/s
+//! gust (BENCHMARKS, issue 17); the modes alone call it stable.
+//!
+//! Model: `ẋ = A x + B w`, `A` the state matrix and `B = ∂ẋ/∂w` the gust
+//! input ([`crate::linearise`]), `w` the gust of [`crate::wind`] at the
+//! default strength `G` of `kite fly` ([`FlightOptions::default`]). That
+//! gust is a sum of sinusoids whose amplitudes `a_k` (at frequencies
+//! `f_k`) do not depend on the seed, so in steady state every output `y =
+//! C x` (line elevation, the body rates, height) has the exact spectral
+//! moments `m_0 = Σ |C G(iω_k) B|² a_k²/2` and `m_2 = Σ ω_k² |…|² a_k²/2`,
+//! `G(s) = (sI - A)⁻¹`, summed over the three components. Its expected
+//! extreme over a span `T` is `g σ`, `σ = √m_0`, with the peak factor `g`
+//! of a Gaussian process crossing its mean `νT` times in the span, `ν =
+//! √(m_2/m_0)/2π` (S. O. Rice, "Mathematical analysis of random noise",
+//! 1944-45; for many crossings `g` is A. G. Davenport's `√(2 ln νT) +
+//! 0.5772/√(2 ln νT)`, Proc. ICE 28, 1964; see [`expected_max`]). The
+//! gusts are dominated by periods of 30-100 s (Λ/U = 6 s), so within the
+//! 30 s the flight judges the slow part is nearly an offset: `g` is then
+//! well below Davenport's. `T` is the span the flight judges: the second
+//! half of the run for elevation and spin, the whole run for the ground.
+//!
+//! The spin `|Ω|` is taken as the norm of the three body rates: its `σ`
+//! is `√(Σ m_0)` and it is given the same peak factor (an approximation:
+//! `|Ω|` is not Gaussian).
+
+use crate::flight_step::{Flight, FlightOptions, GROUND_CLEARANCE, MAX_SPIN, MIN_ELEVATION_DEG};
+use crate::linearise::{perturb, InputMatrix, StateMatrix, Tangent, STATES, STEP};
+use crate::wind::Wind;
+use nalgebra::{Complex, SMatrix};
+use omniad_core::rigid_body::State;
+use serde::Serialize;
+
+/// What the gusts are predicted to do to the kite.
+#[derive(Clone, Debug, Serialize)]
+pub struct GustReport {
+    /// Gust strength G, m/s (`kite fly`'s default).
+    pub gust: f64,
+    /// Line elevation at the equilibrium, degrees.
+    pub elevation_deg: f64,
+    /// Standard deviation of the line elevation, degrees.
+    pub sigma_elevation_deg: f64,
+    /// Expected lowest line elevation over the judged half, degrees.
+    pub min_elevation_deg: f64,
+    /// Standard deviation of `|Ω|` (norm of the body-rate deviations), rad/s.
+    pub sigma_spin: f64,
+    /// Expected largest `|Ω|` over the judged half, rad/s.
+    pub max_spin: f64,
+    /// Expected lowest centre-of-mass height over the run, m.
+    pub min_height: f64,
+    /// The limits the flight judges by: elevation, degrees; spin, rad/s;
+    /// height, m.
+    pub limits: [f64; 3],
+    /// The smallest of the three margins as a fraction of its room at
+    /// rest: `(min_elevation - limit)/|elevation - limit|`, `1 -
+    /// max_spin/limit`, `(min_height - limit)/|height - limit|`. 1: no
+    /// response; 0: at a limit; negative: past one.
+    pub margin: f64,
+    /// Every predicted extreme is inside the flight's limits (`margin > 0`).
+    pub ok: bool,
+}
+
+/// Spectral moments `(m_0, m_2)` of one output.
+#[derive(Clone, Copy, Default)]
+struct Moments(f64, f64);
+
+impl Moments {
+    fn add(&mut self, y: Complex<f64>, power: f64, omega: f64) {
+        let p = y.norm_sqr() * power;
+        self.0 += p;
+        self.1 += p * omega * omega;
+    }
+
+    /// The expected largest excursion over `span` seconds, `σ E[ẑ]`.
+    fn peak(self, span: f64) -> f64 {
+        let sigma = self.0.sqrt();
+        if !(sigma > 0.0) {
+            return 0.0;
+        }
+        let rate = (self.1 / self.0).sqrt() / (2.0 * std::f64::consts::PI);
+        sigma * expected_max(rate * span)
+    }
+}
+
+/// `E[max z]` over a span holding `n = νT` up-crossings of the mean on
+/// average, `z` a unit Gaussian process: from `P(max ≤ z) ≈ Φ(z)
+/// exp(-n e^{-z²/2})` (below `z` at the start, then no up-crossing of it:
+/// Rice's rate, Poisson crossings), `E = ∫₀^∞ (1 - P) dz - ∫_{-∞}^0 P dz`.
+/// It is 0 for a process too slow to change within the span and tends to
+/// Davenport's `√(2 ln n) + 0.5772/√(2 ln n)` for many crossings.
+fn expected_max(n: f64) -> f64 {
+    const DZ: f64 = 0.005;
+    // Midpoint rule: no sample falls on the jump of the integrand at 0.
+    let mut e = 0.0;
+    let mut z = -8.0 + DZ / 2.0;
+    while z < 10.0 {
+        let p = phi(z) * (-n * (-z * z / 2.0).exp()).exp();
+        e += if z > 0.0 { 1.0 - p } else { -p } * DZ;
+        z += DZ;
+    }
+    e
+}
+
+/// The unit normal distribution function `Φ(z)` (Abramowitz & Stegun
+/// 7.1.26 for erfc, absolute error below 1.5e-7).
+fn phi(z: f64) -> f64 {
+    let x = z.abs() / std::f64::consts::SQRT_2;
+    let t = 1.0 / (1.0 + 0.327_591_1 * x);
+    let poly = t
+        * (0.254_829_592
+            + t * (-0.284_496_736
+                + t * (1.421_413_741 + t * (-1.453_152_027 + t * 1.061_405_429))));
+    let tail = 0.5 * poly * (-x * x).exp();
+    if z >= 0.0 {
+        1.0 - tail
+    } else {
+        tail
+    }
+}
+
+/// The gust response about the equilibrium `eq` (at rest) of the steady
+/// `flight`, with its state matrix `a` and gust input `b`.
+pub fn response(flight: &Flight, eq: &State<f64>, a: &StateMatrix, b: &InputMatrix) -> GustReport {
+    let opts = FlightOptions::default();
+    let wind = Wind::new(flight.wind_model().mean.norm(), opts.gust, 0);
+    let elevation_row = elevation_row(flight, eq);
+    let (mut elevation, mut height) = (Moments::default(), Moments::default());
+    let mut spin = [Moments::default(); 3];
+    let ac = a.map(|x| Complex::new(x, 0.0));
+    for (c, modes) in wind.spectrum().iter().enumerate() {
+        for &(amp, f) in modes {
+            let omega = 2.0 * std::f64::consts::PI * f;
+            let m: SMatrix<Complex<f64>, STATES, STATES> =
+                SMatrix::identity() * Complex::new(0.0, omega) - ac;
+            let rhs = b.column(c).map(|x| Complex::new(x, 0.0));
+            let Some(x) = m.lu().solve(&rhs) else {
+                continue;
+            };
+            let power = amp * amp / 2.0;
+            let e: Complex<f64> = (0..STATES).map(|k| x[k] * elevation_row[k]).sum();
+            elevation.add(e, power, omega);
+            height.add(x[2], power, omega);
+            for (k, s) in spin.iter_mut().enumerate() {
+                s.add(x[9 + k], power, omega);
+            }
+        }
+    }
+    let half = opts.seconds / 2.0;
+    let spin_total = Moments(
+        spin.iter().map(|s| s.0).sum(),
+        spin.iter().map(|s| s.1).sum(),
+    );
+    let at_rest = flight.line().elevation_deg(eq);
+    let min_elevation = at_rest - elevation.peak(half);
+    let max_spin = spin_total.peak(half);
+    let min_height = eq.position.z - height.peak(opts.seconds);
+    // Each room is taken as a magnitude, so a kite resting past a limit
+    // (a line below 15° at rest) has a negative margin.
+    let fraction = |extreme: f64, rest: f64, limit: f64| {
+        (extreme - limit) / (rest - limit).abs().max(f64::MIN_POSITIVE)
+    };
+    let margin = fraction(min_elevation, at_rest, MIN_ELEVATION_DEG)
+        .min(1.0 - max_spin / MAX_SPIN)
+        .min(fraction(min_height, eq.position.z, GROUND_CLEARANCE));
+    GustReport {
+        gust: opts.gust,
+        elevation_deg: at_rest,
+        sigma_elevation_deg: elevation.0.sqrt(),
+        min_elevation_deg: min_elevation,
+        sigma_spin: spin_total.0.sqrt(),
+        max_spin,
+        min_height,
+        limits: [MIN_ELEVATION_DEG, MAX_SPIN, GROUND_CLEARANCE],
+        margin,
+        ok: margin > 0.0,
+    }
+}
+
+/// `∂(line elevation, deg)/∂x` at `eq` by central differences.
+fn elevation_row(flight: &Flight, eq: &State<f64>) -> [f64; STATES] {
+    let line = flight.line();
+    let mut row = [0.0; STATES];
+    for (j, r) in row.iter_mut().enumerate() {
+        let mut e = Tangent::zeros();
+        e[j] = STEP;
+        *r = (line.elevation_deg(&perturb(eq, &e)) - line.elevation_deg(&perturb(eq, &(-e))))
+            / (2.0 * STEP);
+    }
+    row
+}
+
+/// The gust response as one text line (`kite check`).
+pub fn render(g: &GustReport) -> String {
+    format!(
+        "  gusts (G = {} m/s, linear response): line elevation {:.1} deg ± {:.1} -> lowest {:.1} deg (limit {:.0}), |Omega| ± {:.2} -> largest {:.2} rad/s (limit {:.1}), margin {:+.2}\n",
+        g.gust,
+        g.elevation_deg,
+        g.sigma_elevation_deg,
+        g.min_elevation_deg,
+        g.limits[0],
+        g.sigma_spin,
+        g.max_spin,
+        g.limits[1],
+        g.margin
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn peak_factor_limits() {
+        // Too slow to change within the span: the extreme is the value at
+        // any one time, mean 0.
+        assert!(expected_max(0.0).abs() < 1e-3, "{}", expected_max(0.0));
+        // Many crossings: Davenport's asymptote.
+        let n: f64 = 1e4;
+        let l = (2.0 * n.ln()).sqrt();
+        let davenport = l + 0.5772 / l;
+        assert!((expected_max(n) - davenport).abs() < 0.05 * davenport);
+        // More crossings, larger extremes.
+        assert!(expected_max(1.0) < expected_max(10.0));
+    }
+
+    #[test]
+    fn normal_distribution() {
+        assert!((phi(0.0) - 0.5).abs() < 1e-7);
+        assert!((phi(1.0) - 0.841_344_7).abs() < 1e-6);
+        assert!((phi(-2.0) - 0.022_750_1).abs() < 1e-6);
+    }
+}
