@@ -108,7 +108,7 @@ mod tests {
     fn a_design_holding_the_target_is_caught_and_an_unrelated_one_is_not() {
         let j = joint();
         let both = unexplained_without_cf(&j, &[0, 1]).expect("fraction");
-        assert!(both < 1e-6, "columns summing to the target: {both}");
+        assert!(both < 1e-4, "columns summing to the target: {both}");
         let unrelated = unexplained_without_cf(&j, &[1]).expect("fraction");
         assert!(unrelated > 0.5, "an unrelated column: {unrelated}");
         assert!(unexplained_without_cf(&j, &[]).is_none());
