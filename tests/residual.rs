@@ -254,16 +254,9 @@ fn added_mass_is_not_also_given_buoyancy() {
     let tmp = tempfile::tempdir().expect("tempdir");
     let set = tmp.path().join("set");
     let set_s = set.to_str().expect("utf-8");
-    omniad(&[
-        "synth",
-        set_s,
-        "--object",
-        "plate",
-        "--seed",
-        "1",
-        "--effect",
-        "added_mass=0.3",
-    ]);
+    let mut args = vec!["synth", set_s];
+    args.extend("--object plate --seed 1 --effect added_mass=0.3".split(' '));
+    omniad(&args);
     let r = residual(set_s, &[]);
     let names: Vec<&str> = r["selected"]
         .as_array()
