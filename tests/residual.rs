@@ -240,3 +240,43 @@ fn residual_refilters_with_the_wind_it_finds() {
     let info = omniad(&["info", model.to_str().expect("utf-8")]);
     assert!(!info.contains("wind"), "{info}");
 }
+
+/// Issue 15, added mass: on a plate whose air carries Kirchhoff added
+/// mass (and nothing else), the selection keeps added mass and is *not*
+/// also given buoyancy or the gravity coupling: with added mass those
+/// reproduce the measured force itself (`identify.rs`) and would trade
+/// against C_F's scale (before the check: buoyancy V_b 0.0159 m³, five
+/// times the plate's volume, and C_F 63 % off on this set). Bound on C_F
+/// after: measured 5.5 % (seed 1), 4.0 % (seed 2); 10 % is the issue's
+/// acceptance.
+#[test]
+fn added_mass_is_not_also_given_buoyancy() {
+    let tmp = tempfile::tempdir().expect("tempdir");
+    let set = tmp.path().join("set");
+    let set_s = set.to_str().expect("utf-8");
+    let mut args = vec!["synth", set_s];
+    args.extend("--object plate --seed 1 --effect added_mass=0.3".split(' '));
+    omniad(&args);
+    let r = residual(set_s, &[]);
+    let names: Vec<&str> = r["selected"]
+        .as_array()
+        .expect("selected")
+        .iter()
+        .filter_map(|n| n.as_str())
+        .collect();
+    assert_eq!(names.first(), Some(&"added_mass"), "{r:#}");
+    assert!(
+        !names.contains(&"buoyancy") && !names.contains(&"gravity_coupling"),
+        "{names:?}"
+    );
+    let refused = r["candidates"]
+        .as_array()
+        .expect("candidates")
+        .iter()
+        .find(|c| c["effect"] == "buoyancy" && c["step"] == 1)
+        .expect("buoyancy tried after added mass");
+    let why = refused["rejected"].as_str().unwrap_or("");
+    assert!(why.contains("not identifiable"), "{refused:#}");
+    let cf = r["cf_error_vs_truth"]["after"].as_f64().expect("C_F error");
+    assert!(cf < 0.10, "C_F {:.1} % off the truth after", cf * 100.0);
+}

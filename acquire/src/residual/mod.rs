@@ -23,6 +23,7 @@ pub mod candidates;
 pub mod diagnose;
 pub mod extend;
 pub mod fixed;
+pub mod identify;
 pub mod plots;
 pub(crate) mod problems;
 pub mod refit;
@@ -71,6 +72,11 @@ pub struct CandidateReport {
     pub uncertainty: Vec<f64>,
     /// Why it was not kept.
     pub rejected: Option<String>,
+    /// The fraction of the measured force's weighted square its design's
+    /// effect columns leave unexplained without C_F (at most
+    /// [`identify::COPY_FRACTION`]: not identifiable; absent with a given
+    /// model).
+    pub unexplained_without_cf: Option<f64>,
 }
 
 /// Trajectory RMS position error over the first 0.5 s, m.
@@ -200,6 +206,7 @@ pub fn analyse(
             params: t.params.clone(),
             uncertainty: t.uncertainty.clone(),
             rejected: t.rejected.clone(),
+            unexplained_without_cf: t.unexplained_without_cf,
         })
         .collect();
     let mut report = Report {

@@ -9,10 +9,15 @@
 //! * its parameters are physically plausible
 //!   ([`super::candidates::plausible`]);
 //! * it is a named effect, or no named effect comes within [`PARSIMONY`]
-//!   of the generic block's gain (a generic block is the last resort).
+//!   of the generic block's gain (a generic block is the last resort);
+//! * with the effects already kept, its columns do not reproduce the
+//!   measured force without C_F ([`super::identify`]): such a design can
+//!   copy the held-out target, so its gain is no evidence and its
+//!   parameters trade against C_F's scale.
 
 use crate::fit::joint::{held_out, Solution};
 use crate::residual::candidates::{plausible, Candidate, ALL};
+use crate::residual::identify::{unexplained_without_cf, COPY_FRACTION};
 use crate::residual::problems::Problems;
 use nalgebra::DVector;
 
@@ -79,6 +84,10 @@ pub struct Tried {
     pub uncertainty: Vec<f64>,
     /// Why not kept (when not).
     pub rejected: Option<String>,
+    /// The fraction of the target its design leaves unexplained without
+    /// C_F ([`super::identify::unexplained_without_cf`]; `None` with a
+    /// held model).
+    pub unexplained_without_cf: Option<f64>,
 }
 
 /// The extra columns of a design.
@@ -233,6 +242,10 @@ pub(crate) fn select(
                     sign_threshold(n)
                 ));
             }
+            let copy = unexplained_without_cf(&p.force, &design_columns(p, &d));
+            if let Some(r) = copy.filter(|r| rejected.is_none() && *r <= COPY_FRACTION) {
+                rejected = Some(not_identifiable(&design, r));
+            }
             tried.push(Tried {
                 candidate: c,
                 step,
@@ -243,6 +256,7 @@ pub(crate) fn select(
                 params: values,
                 uncertainty: se,
                 rejected: rejected.clone(),
+                unexplained_without_cf: copy,
             });
             if rejected.is_none() {
                 eligible.push((c, gain, s));
@@ -259,6 +273,21 @@ pub(crate) fn select(
         selected: design,
         tried,
     })
+}
+
+/// Why a design that reproduces the target without C_F is not kept.
+fn not_identifiable(kept: &[Candidate], ratio: f64) -> String {
+    let with = if kept.is_empty() {
+        String::from("alone")
+    } else {
+        let names: Vec<&str> = kept.iter().map(|c| c.name()).collect();
+        format!("with {}", names.join(", "))
+    };
+    format!(
+        "not identifiable {with}: the columns alone reproduce the measured force \
+         ({:.2} % of it unexplained without C_F), so the fit trades them against C_F's scale",
+        ratio * 100.0
+    )
 }
 
 /// The eligible candidate to keep: the largest gain, except that a named
