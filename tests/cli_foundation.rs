@@ -204,6 +204,7 @@ fn lab_lists_its_measurements_and_names_a_missing_set() {
         "forcenoise",
         "missing-terms",
         "mixfit",
+        "torquesplit",
         "truthfit",
     ] {
         assert!(help.contains(m), "{m} missing from {help}");
@@ -214,6 +215,17 @@ fn lab_lists_its_measurements_and_names_a_missing_set() {
         .args(["lab", "accept"])
         .arg(&missing)
         .args(["--iterations", "1"])
+        .output()
+        .expect("run");
+    assert!(!out.status.success());
+    assert!(
+        text(&out.stderr).contains("no-such-set"),
+        "{}",
+        text(&out.stderr)
+    );
+    let out = omniad()
+        .args(["lab", "torquesplit"])
+        .arg(&missing)
         .output()
         .expect("run");
     assert!(!out.status.success());

@@ -25,6 +25,8 @@ pub enum LabCommand {
     MissingTerms(Set),
     /// Forces or velocities: which carries the C_F error?
     Mixfit(Set),
+    /// Which frames' torque error makes the C_T error?
+    Torquesplit(Set),
     /// The fit from the true states (fit error alone).
     Truthfit(TruthfitArgs),
 }
@@ -167,6 +169,7 @@ pub fn run(c: &LabCommand) -> Result<()> {
         LabCommand::Forcenoise(a) => lab::forcenoise::run(&a.set, &mut out),
         LabCommand::MissingTerms(a) => lab::missing_terms::run(&a.set, &mut out),
         LabCommand::Mixfit(a) => lab::mixfit::run(&a.set, &mut out),
+        LabCommand::Torquesplit(a) => lab::torquesplit::run(&a.set, &mut out),
         LabCommand::Truthfit(a) => {
             let knobs = Knobs {
                 relinearise: a.relinearise,

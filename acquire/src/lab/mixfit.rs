@@ -7,13 +7,11 @@
 //! `omniad lab mixfit SET`.
 use super::{say, LabResult};
 use crate::fit::model::zero_model;
-use crate::input::recording::RecordingSet;
-use crate::pipeline::{self, FitConfig};
+use crate::pipeline;
 use crate::reconstruct::forces::{ForceStats, Sample};
 use crate::reconstruct::run::Silent;
 use crate::synth::truth::{
     fitted_directions, force_error, read_coefficients, torque_directions, torque_error,
-    true_trajectories,
 };
 use std::collections::HashMap;
 use std::io::Write;
@@ -21,12 +19,8 @@ use std::path::Path;
 
 /// The mixed-frames study of the set in `dir` (with `truth/`).
 pub fn run(dir: &Path, out: &mut dyn Write) -> LabResult {
-    let set = RecordingSet::load(dir)?;
-    let cfg = FitConfig::default();
-    let fit = pipeline::fit(&set, &cfg, &Silent)?;
-    let truth_states = true_trajectories(dir, &set)?;
-    let mut st = ForceStats::default();
-    let tframes = crate::reconstruct::run::samples(&set, &truth_states, &mut st);
+    let w = super::fitted_with_truth(dir)?;
+    let (set, cfg, fit, tframes) = (w.set, w.cfg, w.fit, w.truth_frames);
     let tmap = by_frame(&tframes);
     let truth = read_coefficients(&dir.join("truth/coefficients.csv"))?;
     let base = zero_model(&set.object, cfg.degree)?;

@@ -8,6 +8,7 @@
 //! * [`forcenoise`]: is the C_F error force noise or force bias?
 //! * [`missing_terms`]: residual analysis of terms the model lacks;
 //! * [`mixfit`]: forces or velocities — which carries the C_F error?
+//! * [`torquesplit`]: which frames' torque error makes the C_T error?
 //! * [`truthfit`]: the fit from the true states (fit error alone).
 
 pub mod accept;
@@ -16,6 +17,7 @@ pub mod diag;
 pub mod forcenoise;
 pub mod missing_terms;
 pub mod mixfit;
+pub mod torquesplit;
 pub mod truthfit;
 
 use crate::pipeline::{FitConfig, Method};
@@ -103,4 +105,35 @@ impl Knobs {
         }
         cfg
     }
+}
+
+/// A set fitted with the default pipeline, and the frames (eqs. 9-10) of
+/// its true states: what the studies that compare the two start from.
+pub(crate) struct FittedWithTruth {
+    /// The set.
+    pub set: crate::input::recording::RecordingSet,
+    /// The default configuration it was fitted with.
+    pub cfg: FitConfig,
+    /// The pipeline's outcome.
+    pub fit: crate::pipeline::FitOutcome,
+    /// The frames of `truth/`'s states.
+    pub truth_frames: Vec<crate::reconstruct::forces::Sample>,
+}
+
+/// [`FittedWithTruth`] of the set in `dir` (with `truth/`).
+pub(crate) fn fitted_with_truth(
+    dir: &std::path::Path,
+) -> Result<FittedWithTruth, Box<dyn std::error::Error>> {
+    let set = crate::input::recording::RecordingSet::load(dir)?;
+    let cfg = FitConfig::default();
+    let fit = crate::pipeline::fit(&set, &cfg, &crate::reconstruct::run::Silent)?;
+    let truth_states = crate::synth::truth::true_trajectories(dir, &set)?;
+    let mut st = crate::reconstruct::forces::ForceStats::default();
+    let truth_frames = crate::reconstruct::run::samples(&set, &truth_states, &mut st);
+    Ok(FittedWithTruth {
+        set,
+        cfg,
+        fit,
+        truth_frames,
+    })
 }
