@@ -211,29 +211,22 @@ fn lab_lists_its_measurements_and_names_a_missing_set() {
     }
     let dir = tempfile::tempdir().expect("tmp");
     let missing = dir.path().join("no-such-set");
-    let out = omniad()
-        .args(["lab", "accept"])
-        .arg(&missing)
-        .args(["--iterations", "1"])
-        .output()
-        .expect("run");
-    assert!(!out.status.success());
-    assert!(
-        text(&out.stderr).contains("no-such-set"),
-        "{}",
-        text(&out.stderr)
-    );
-    let out = omniad()
-        .args(["lab", "torquesplit"])
-        .arg(&missing)
-        .output()
-        .expect("run");
-    assert!(!out.status.success());
-    assert!(
-        text(&out.stderr).contains("no-such-set"),
-        "{}",
-        text(&out.stderr)
-    );
+    let runs: [&[&str]; 2] = [&["accept", "--iterations", "1"], &["torquesplit"]];
+    for args in runs {
+        let out = omniad()
+            .arg("lab")
+            .arg(args[0])
+            .arg(&missing)
+            .args(&args[1..])
+            .output()
+            .expect("run");
+        assert!(!out.status.success(), "lab {args:?}");
+        assert!(
+            text(&out.stderr).contains("no-such-set"),
+            "{}",
+            text(&out.stderr)
+        );
+    }
 }
 
 #[test]
