@@ -20,10 +20,11 @@
 //!   air wrench holds all of it) and must be selected again: a round that
 //!   does not keep every effect it held is not a confirmation. On the
 //!   first states an added mass that predicts held-out takes
-//!   significantly better ([`significant`]) but is not positive
-//!   semi-definite is tried in the process model projected onto PSD
-//!   tensors ([`omniad_core::math::nearest_psd`]): it is kept only when
-//!   the refitted states confirm it (selected, plausible).
+//!   significantly better ([`significant`]) but was not kept (not
+//!   positive semi-definite) is tried in the process model projected onto
+//!   PSD tensors ([`omniad_core::math::nearest_psd`]) when no named
+//!   effect was kept: it is kept only when the refitted states confirm it
+//!   (selected, plausible).
 //!
 //! Rounds stop when the state effects are the same as the round's own and
 //! the wind and each effect change by less than [`state::WIND_TOLERANCE`]
@@ -179,8 +180,13 @@ fn proposal(r: &Round, first: bool) -> StateEffects {
             _ => None,
         })
         .collect();
+    // A significant added mass that was not kept is tried only when no
+    // named effect explains the first states (generic blocks or nothing
+    // were kept): next to one that does, it is a rival explanation
+    // (isotropic added mass copies buoyancy, `identify.rs`), not a
+    // missing piece, and a refit holding both confirms neither.
     let am = Candidate::Named(EffectKind::AddedMass);
-    if first && !effects.iter().any(|e| e.kind == EffectKind::AddedMass) {
+    if first && effects.is_empty() {
         let implausible = r
             .sel
             .tried
