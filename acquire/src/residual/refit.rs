@@ -342,7 +342,11 @@ pub(crate) fn describe(r: &Refit) -> Vec<String> {
         return Vec::new();
     }
     let what = r.rounds.get(1).map_or_else(String::new, |x| {
-        let names = x.wind.iter().map(|_| "wind").chain(x.effects.keys().copied());
+        let names = x
+            .wind
+            .iter()
+            .map(|_| "wind")
+            .chain(x.effects.keys().copied());
         names.collect::<Vec<_>>().join(", ")
     });
     let mut out = vec![format!(

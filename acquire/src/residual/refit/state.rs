@@ -231,12 +231,15 @@ mod tests {
         let tensor = |d: [f64; 3]| StateEffects {
             wind: None,
             effects: vec![
-                added_mass_effect(&Matrix3::from_diagonal(&Vector3::from(d))).expect("M_a")
+                added_mass_effect(&Matrix3::from_diagonal(&Vector3::from(d))).expect("M_a"),
             ],
         };
         let (start, bad) = (tensor([1e-3, 1e-3, 5e-3]), tensor([-4e-3, 1e-3, 5e-3]));
         let y = accelerate(&start, &bad, &steps(&start, &bad), None);
-        let e = y.effects[0].added_mass().expect("M_a").symmetric_eigenvalues();
+        let e = y.effects[0]
+            .added_mass()
+            .expect("M_a")
+            .symmetric_eigenvalues();
         assert!(e.min() >= -1e-15, "{e}");
     }
 
