@@ -67,6 +67,17 @@ fn residual_names_buoyancy_and_clean_air_gets_nothing() {
         after < 0.7 * before,
         "held-out force RMS {before} -> {after}"
     );
+    // Refit around the effect: the buoyancy found is held in the
+    // reconstruction's process model of the next round, and that round's
+    // states select it again.
+    let refit = &r["refit"];
+    let held = refit["rounds"][1]["effects"]["buoyancy"][0].as_f64();
+    assert!(
+        held.is_some_and(|h| (h - 0.012).abs() < 0.15 * 0.012),
+        "refit rounds: {refit:#}"
+    );
+    assert_eq!(refit["rounds"][1]["selected"][0], "buoyancy", "{refit:#}");
+    assert_eq!(refit["confirmed"], true, "{refit:#}");
     assert_item7_keys(&r);
     assert!(plots.join("residual-vs-spin.svg").exists());
     let info = omniad(&["info", model.to_str().expect("utf-8")]);

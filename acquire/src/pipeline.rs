@@ -55,11 +55,12 @@ pub struct FitConfig {
     /// the floor at 0.02 all-relinearised runs were better on every set
     /// measured, see BENCHMARKS.md.)
     pub relinearised_iterations: usize,
-    /// The object's added mass M_a (symmetric positive semi-definite, kg,
-    /// body frame) for the process model, `None` normally: the residual
-    /// analysis's refit sets it (see `pipeline::process_effects`; the wind
-    /// is `filter.wind`).
-    pub added_mass: Option<nalgebra::Matrix3<f64>>,
+    /// The object's named effects (the core's library,
+    /// `omniad_core::effect`, at most one per kind) held in the process
+    /// model and taken off the frames' air wrench before the coefficient
+    /// fit; empty normally: the residual analysis's refit sets them (see
+    /// `pipeline::process_effects`; the wind is `filter.wind`).
+    pub effects: Vec<omniad_core::effect::Effect<f64>>,
 }
 
 impl Default for FitConfig {
@@ -72,7 +73,7 @@ impl Default for FitConfig {
             filter: FilterConfig::default(),
             noise_floor: 0.02,
             relinearised_iterations: usize::MAX,
-            added_mass: None,
+            effects: Vec::new(),
         }
     }
 }
@@ -193,10 +194,7 @@ pub fn fit(set: &RecordingSet, cfg: &FitConfig, progress: &dyn Progress) -> Resu
     if cfg.iterations == 0 {
         return Err(Error::Data("at least one iteration is needed".into()));
     }
-    let base = process_effects::with_added_mass(
-        zero_model(&set.object, cfg.degree)?,
-        cfg.added_mass.as_ref(),
-    )?;
+    let base = process_effects::with_effects(zero_model(&set.object, cfg.degree)?, &cfg.effects)?;
     let mut model = base.clone();
     let first = initial_noise(set);
     let mut noise = first;

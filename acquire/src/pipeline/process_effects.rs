@@ -1,35 +1,37 @@
 //! Effects that change the states, put into the refinement's process model
 //! (issue 15, "refit around the effect"). The residual analysis
 //! (`residual::refit`) finds them on a first fit and fits again with them:
-//! * added mass M_a (kg, body frame) is the object's: the base model the
-//!   refinement starts from carries it as the core's named effect, so the
-//!   filter's RK4 step solves `(M I + M_a) dU/dt = ...`
-//!   (`rigid_body::state_rate_with_added_mass`), and the coefficient fit
-//!   sees the frames' air wrench net of the effect's (eqs. 9-10 give the
-//!   whole air wrench, `-M_a dU/dt - Ω × (M_a U)` and the Munk moment
-//!   `-U × (M_a U)` included: alpha, beta and D must not take it twice);
+//! * the object's named effects (`omniad_core::effect`: buoyancy, rotational
+//!   lift, propeller thrust, linear drag, added mass) are carried by the
+//!   base model the refinement starts from, so the filter's RK4 step
+//!   predicts with them (`rigid_body::AirForces` evaluates every stored
+//!   effect; added mass on the mass side,
+//!   `rigid_body::state_rate_with_added_mass`, solving
+//!   `(M I + M_a) dU/dt = ...`), and the coefficient fit sees the frames'
+//!   air wrench net of the effects' (eqs. 9-10 give the whole air wrench,
+//!   the effects' included: alpha, beta and D must not take it twice). In
+//!   a model-based reconstruction any force the process model lacks is
+//!   explained by the states and the bias wrench instead, which pulls the
+//!   reconstructed forces toward the model without it;
 //! * the wind is the recording's: it sits in the filter's settings
 //!   (`FilterConfig::wind`), and the frames' velocities are relative to
 //!   the air (`run::samples_in_wind`).
 
 use crate::error::{Error, Result};
 use crate::reconstruct::forces::Sample;
-use nalgebra::Matrix3;
-use omniad_core::effect::{Effect, EffectKind};
+use omniad_core::effect::Effect;
 use omniad_core::Coefficients;
 use std::borrow::Cow;
 
-/// `base` with the added mass `m` (symmetric, kg, body frame), if any.
-pub(super) fn with_added_mass(
+/// `base` with `effects` stored (one per kind; each checked by the core).
+pub(super) fn with_effects(
     mut base: Coefficients<f64>,
-    m: Option<&Matrix3<f64>>,
+    effects: &[Effect<f64>],
 ) -> Result<Coefficients<f64>> {
-    if let Some(m) = m {
-        let six = omniad_core::math::six_from_symmetric(m);
-        let e = Effect::new(EffectKind::AddedMass, &six)
-            .ok_or_else(|| Error::Data("added mass: bad parameters".into()))?;
-        base.set_effect(e)
-            .map_err(|e| Error::Data(format!("cannot add the added mass: {e}")))?;
+    for e in effects {
+        base.set_effect(*e).map_err(|err| {
+            Error::Data(format!("cannot add the effect {}: {err}", e.kind.name()))
+        })?;
     }
     Ok(base)
 }

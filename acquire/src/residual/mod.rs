@@ -14,10 +14,10 @@
 //!    reconstruction ([`resimulate`]); the residual is diagnosed
 //!    ([`diagnose`]) and described in words ([`words`]).
 //!
-//! 5. A wind or an added mass found changes the states themselves: it is
-//!    put into the reconstruction's process model and everything above
-//!    runs again on the new states until the selection settles
-//!    ([`refit`]).
+//! 5. A wind or a named effect found changes the states themselves (the
+//!    reconstruction is model-based): it is put into the reconstruction's
+//!    process model and everything above runs again on the new states
+//!    until the selection settles ([`refit`]).
 
 pub mod candidates;
 pub mod diagnose;
@@ -139,7 +139,7 @@ pub struct Report {
     /// Takes left out: their first reconstruction was implausible
     /// (`reconstruct::first`).
     pub left_out_takes: Vec<crate::reconstruct::first::LeftOut>,
-    /// The refit around a wind or an added mass ([`refit`]).
+    /// The refit around the wind and named effects found ([`refit`]).
     pub refit: refit::Refit,
 }
 
@@ -154,8 +154,8 @@ pub struct Analysis {
 }
 
 /// Runs the analysis of the set in `dir`: the first round on states
-/// reconstructed without any effect, then the refits around a wind or an
-/// added mass it finds ([`refit`]). `baseline` is the first round's base
+/// reconstructed without any effect, then the refits around the wind and
+/// the named effects it finds ([`refit`]). `baseline` is the first round's base
 /// model; `candidates`, `selected` and `after` are the final round's (the
 /// first round's when no refit confirmed an effect). With `given` (checked
 /// by [`fixed::check`]) that model is the baseline of every round instead
