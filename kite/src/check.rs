@@ -209,6 +209,7 @@ pub fn check_at(
         equilibrium: equilibrium.is_some(),
         statically_stable: statics.stable,
         dynamically_stable: modes.stable,
+        saturates: modes.bounded,
         gust_tolerant: modes.gusts.as_ref().is_some_and(|g| g.ok),
     });
     let mut reasons = frame_reasons(design, &unjoined);
@@ -325,11 +326,18 @@ fn reasons_after_frame(
             statics.at, a.axis[0], a.axis[1], a.axis[2], a.eigenvalue
         ));
     }
+    let saturates = modes.limit_cycle.as_ref().filter(|c| c.inside_limits);
     for m in modes.modes.iter().filter(|m| !m.stable) {
-        reasons.push(format!(
-            "dynamically unstable: {} mode grows at {:+.3}/s",
-            m.motion, m.real
-        ));
+        reasons.push(match saturates {
+            Some(c) => format!(
+                "{} mode grows at {:+.3}/s but saturates in a limit cycle inside the flight's limits (line elevation {:.1}-{:.1}°, |Omega| <= {:.2} rad/s in steady wind)",
+                m.motion, m.real, c.elevation_deg[0], c.elevation_deg[1], c.max_spin
+            ),
+            None => format!(
+                "dynamically unstable: {} mode grows at {:+.3}/s",
+                m.motion, m.real
+            ),
+        });
     }
     if let Some(g) = modes.gusts.as_ref().filter(|g| !g.ok) {
         reasons.push(format!(

@@ -31,6 +31,7 @@ pub mod gusts;
 pub mod joints;
 pub mod launch;
 pub mod library;
+pub mod limit_cycle;
 pub mod linearise;
 pub mod mass;
 pub mod modes;
