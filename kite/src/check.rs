@@ -210,7 +210,8 @@ pub fn check_at(
         statically_stable: statics.stable,
         dynamically_stable: modes.stable,
         saturates: modes.bounded,
-        gust_tolerant: modes.gusts.as_ref().is_some_and(|g| g.ok),
+        gust_tolerant: modes.gusts.as_ref().is_some_and(|g| g.ok)
+            && modes.strong_gust.as_ref().is_some_and(|g| g.ok),
     });
     let mut reasons = frame_reasons(design, &unjoined);
     reasons.extend(reasons_after_frame(
@@ -343,6 +344,16 @@ fn reasons_after_frame(
         reasons.push(format!(
             "gust sensitive: {} m/s gusts are predicted to take the line down to {:.1}° (limit {:.0}°), the spin up to {:.2} rad/s (limit {:.1}), the kite down to {:.2} m (limit {:.1})",
             g.gust, g.min_elevation_deg, g.limits[0], g.max_spin, g.limits[1], g.min_height, g.limits[2]
+        ));
+    }
+    if let Some(g) = modes.strong_gust.as_ref().filter(|g| !g.ok) {
+        let m = &g.motion;
+        reasons.push(format!(
+            "gust sensitive: a 1 - cos gust to {:.1} m/s takes the line down to {:.1}° (limit 15°), the spin up to {:.2} rad/s{}",
+            g.wind,
+            m.elevation_deg[0],
+            m.max_spin,
+            if m.crashed { ", the kite to the ground" } else { "" }
         ));
     }
     reasons

@@ -205,6 +205,18 @@ pub fn response(
     }
 }
 
+/// The expected largest along-wind gust (m/s above the mean) of `wind`
+/// over `span` seconds, counting only its sinusoids up to `max_hz`: their
+/// spectral moments and Rice's peak factor, as for the kite's outputs.
+pub fn along_wind_peak(wind: &Wind, span: f64, max_hz: f64) -> f64 {
+    let mut m = Moments::default();
+    for &(amp, f) in wind.spectrum()[0].iter().filter(|(_, f)| *f <= max_hz) {
+        let omega = 2.0 * std::f64::consts::PI * f;
+        m.add(Complex::new(1.0, 0.0), amp * amp / 2.0, omega);
+    }
+    m.peak(span)
+}
+
 /// `∂(line elevation, deg)/∂x` at `eq` by central differences.
 fn elevation_row(flight: &Flight, eq: &State<f64>) -> [f64; STATES] {
     let line = flight.line();

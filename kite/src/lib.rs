@@ -40,6 +40,7 @@ pub mod rod_end;
 mod settle;
 pub mod sockets;
 pub mod spec;
+pub mod strong_gust;
 mod tether;
 pub mod trimming;
 pub mod verdict;

@@ -24,6 +24,7 @@ use crate::gusts::{response, GustReport};
 use crate::limit_cycle::LimitCycle;
 use crate::linearise::{eigenvector, input_matrix, state_matrix, CVector, StateMatrix};
 use crate::settle::settle;
+use crate::strong_gust::{strong_gust, StrongGust};
 use crate::Design;
 use anyhow::Result;
 use nalgebra::{Complex, Matrix3, Vector3};
@@ -94,6 +95,9 @@ pub struct ModesReport {
     /// `None` unless the motion is `bounded` (a growth without end has no
     /// steady response).
     pub gusts: Option<GustReport>,
+    /// The settled state in the steady wind of the strongest expected gust
+    /// ([`crate::strong_gust`]); `None` unless the linear gust test passes.
+    pub strong_gust: Option<StrongGust>,
 }
 
 impl ModesReport {
@@ -107,6 +111,7 @@ impl ModesReport {
             limit_cycle: None,
             bounded: false,
             gusts: None,
+            strong_gust: None,
         }
     }
 }
@@ -141,6 +146,14 @@ pub fn analyse(design: &Design, wind: Option<f64>) -> Result<(Option<Equilibrium
         let b = input_matrix(&flight, &eq.state);
         response(&flight, &eq.state, &a, &b, cycle.as_ref())
     });
+    let strong_gust = match &gusts {
+        Some(g) if g.ok => Some(strong_gust(
+            design,
+            flight.wind_model().mean.norm(),
+            &eq.state,
+        )?),
+        _ => None,
+    };
     let report = ModesReport {
         equilibrium: Some(EquilibriumReport {
             elevation_deg: eq.elevation_deg,
@@ -152,6 +165,7 @@ pub fn analyse(design: &Design, wind: Option<f64>) -> Result<(Option<Equilibrium
         limit_cycle: cycle,
         bounded,
         gusts,
+        strong_gust,
         max_growth_rate: max,
         modes,
     };
@@ -279,6 +293,9 @@ pub fn render(r: &ModesReport) -> String {
     }
     if let Some(g) = &r.gusts {
         s += &crate::gusts::render(g);
+    }
+    if let Some(g) = &r.strong_gust {
+        s += &crate::strong_gust::render(g);
     }
     s
 }

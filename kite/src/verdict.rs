@@ -30,7 +30,9 @@
 //!    (`modes.limit_cycle` in the JSON says which), inside the limits;
 //! 6. the gusts of `kite fly` keep it inside the flight's limits: the
 //!    linear gust response's expected extremes of line elevation, spin and
-//!    height ([`crate::gusts`]) — else `gust_sensitive`.
+//!    height ([`crate::gusts`]), and the settled state in the steady wind
+//!    of the strongest expected gust ([`crate::strong_gust`]) — else
+//!    `gust_sensitive`.
 
 use serde::Serialize;
 

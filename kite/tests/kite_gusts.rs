@@ -41,3 +41,41 @@ fn a_low_hanging_variant_is_gust_sensitive_and_crashes() {
     .unwrap();
     assert_eq!(f.outcome, Outcome::Crashes, "{}", flight::render(&f));
 }
+
+/// `fig15-d` with its string 10 cm lower hangs at 24° with every mode
+/// decaying and a linear gust response inside the limits, but its
+/// equilibrium falls with the wind speed (20° at 5.5 m/s, 13° at 6) and
+/// folds: one strong "1 - cos" gust takes its line below the flight's
+/// limit, and its gusty flight dives into the ground. The file itself
+/// climbs in the stronger wind and passes.
+#[test]
+fn a_kite_that_dives_in_a_strong_gust_is_gust_sensitive_and_crashes() {
+    let mut design = common::kite("fig15-d");
+    let file = check::check(&design, None).unwrap();
+    let strong = file
+        .modes
+        .strong_gust
+        .as_ref()
+        .expect("linear gust test passes");
+    assert!(strong.ok, "{}", check::render(&file));
+    assert_eq!(file.verdict, Verdict::Stable);
+
+    design.spec.string = StringSpec {
+        gamma: None,
+        offset: Some(file.attachment_offset - 0.10),
+        length: design.spec.string.length,
+    };
+    let c = check::check(&design, None).unwrap();
+    let report = check::render(&c);
+    assert!(c.modes.stable, "{report}");
+    assert!(c.modes.gusts.as_ref().is_some_and(|g| g.ok), "{report}");
+    let strong = c.modes.strong_gust.as_ref().expect("strong gust tested");
+    assert!(!strong.ok, "{report}");
+    assert!(
+        strong.motion.elevation_deg[0] < MIN_ELEVATION_DEG,
+        "{report}"
+    );
+    assert_eq!(c.verdict, Verdict::GustSensitive, "{report}");
+    let f = flight::fly(&design, &FlightOptions::default()).unwrap();
+    assert_eq!(f.outcome, Outcome::Crashes, "{}", flight::render(&f));
+}
