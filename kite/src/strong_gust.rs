@@ -34,9 +34,8 @@
 //! that strong for that long, and fig15-b pitched -10°, which flies in
 //! every gusty flight, drifts into the ground in it.
 
-use crate::flight_step::{FlightOptions, MIN_ELEVATION_DEG};
+use crate::flight_step::{Flight, FlightOptions, MIN_ELEVATION_DEG};
 use crate::limit_cycle::{judged_seconds, LimitCycle, Recorder};
-use crate::modes::steady_flight;
 use crate::Design;
 use anyhow::Result;
 use omniad_core::rigid_body::State;
@@ -72,7 +71,12 @@ pub fn strong_gust(design: &Design, mean: f64, from: &State<f64>) -> Result<Stro
     let wind = crate::wind::Wind::new(mean, opts.gust, 0);
     let span = gust_seconds(mean);
     let top = mean + crate::gusts::along_wind_peak(&wind, opts.seconds, 1.0 / span);
-    let mut flight = steady_flight(design, Some(mean))?.with_step(RAMP_STEP);
+    let steady = FlightOptions {
+        gust: 0.0,
+        wind: Some(mean),
+        ..FlightOptions::default()
+    };
+    let mut flight = Flight::new(design.clone(), &steady)?.with_step(RAMP_STEP);
     flight.release_at(*from);
     let mut rec = Recorder::from(0.0);
     let end = span + judged_seconds();

@@ -12,6 +12,15 @@ use omniad_kite::check::{self, Verdict};
 use omniad_kite::flight::{self, FlightOptions, Outcome, MIN_ELEVATION_DEG};
 use omniad_kite::spec::StringSpec;
 
+/// The string attached `offset` (m) along the eq. (16) line.
+fn move_string(design: &mut omniad_kite::Design, offset: f64) {
+    design.spec.string = StringSpec {
+        gamma: None,
+        offset: Some(offset),
+        length: design.spec.string.length,
+    };
+}
+
 #[test]
 fn a_low_hanging_variant_is_gust_sensitive_and_crashes() {
     let mut design = common::kite("fig15-b");
@@ -20,11 +29,7 @@ fn a_low_hanging_variant_is_gust_sensitive_and_crashes() {
     assert!(g.ok && g.min_elevation_deg > MIN_ELEVATION_DEG, "{g:?}");
     assert_eq!(file.verdict, Verdict::Stable);
 
-    design.spec.string = StringSpec {
-        gamma: None,
-        offset: Some(file.attachment_offset - 0.10),
-        length: design.spec.string.length,
-    };
+    move_string(&mut design, file.attachment_offset - 0.10);
     let c = check::check(&design, None).unwrap();
     assert!(c.modes.stable, "{}", check::render(&c));
     let g = c.modes.gusts.as_ref().expect("every mode decays");
@@ -60,11 +65,7 @@ fn a_kite_that_dives_in_a_strong_gust_is_gust_sensitive_and_crashes() {
     assert!(strong.ok, "{}", check::render(&file));
     assert_eq!(file.verdict, Verdict::Stable);
 
-    design.spec.string = StringSpec {
-        gamma: None,
-        offset: Some(file.attachment_offset - 0.10),
-        length: design.spec.string.length,
-    };
+    move_string(&mut design, file.attachment_offset - 0.10);
     let c = check::check(&design, None).unwrap();
     let report = check::render(&c);
     assert!(c.modes.stable, "{report}");
