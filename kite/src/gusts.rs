@@ -208,7 +208,7 @@ pub fn response(
 /// The expected largest along-wind gust (m/s above the mean) of `wind`
 /// over `span` seconds, counting only its sinusoids up to `max_hz`: their
 /// spectral moments and Rice's peak factor, as for the kite's outputs.
-pub fn along_wind_peak(wind: &Wind, span: f64, max_hz: f64) -> f64 {
+pub(crate) fn along_wind_peak(wind: &Wind, span: f64, max_hz: f64) -> f64 {
     let mut m = Moments::default();
     for &(amp, f) in wind.spectrum()[0].iter().filter(|(_, f)| *f <= max_hz) {
         let omega = 2.0 * std::f64::consts::PI * f;

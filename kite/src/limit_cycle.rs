@@ -26,7 +26,7 @@ use serde::Serialize;
 
 /// The span over which the bounded motion is judged, s (the second half
 /// of `kite fly`'s default run).
-pub fn judged_seconds() -> f64 {
+pub(crate) fn judged_seconds() -> f64 {
     FlightOptions::default().seconds / 2.0
 }
 
@@ -50,7 +50,7 @@ pub struct LimitCycle {
 
 /// Accumulates the motion of a run over its judged span.
 #[derive(Clone, Debug)]
-pub struct Recorder {
+pub(crate) struct Recorder {
     from: f64,
     elevation: [f64; 2],
     max_spin: f64,
@@ -59,7 +59,7 @@ pub struct Recorder {
 
 impl Recorder {
     /// Records from time `from` (s) on.
-    pub fn from(from: f64) -> Self {
+    pub(crate) fn from(from: f64) -> Self {
         Self {
             from,
             elevation: [f64::INFINITY, f64::NEG_INFINITY],
@@ -69,7 +69,7 @@ impl Recorder {
     }
 
     /// Takes the flight's state now into account.
-    pub fn record(&mut self, f: &Flight) {
+    pub(crate) fn record(&mut self, f: &Flight) {
         if f.time() < self.from {
             return;
         }
@@ -80,14 +80,8 @@ impl Recorder {
         self.min_height = self.min_height.min(s.position.z);
     }
 
-    /// Whether the motion so far already left the flight's limits.
-    pub fn outside(&self) -> bool {
-        !(self.elevation[0] > MIN_ELEVATION_DEG) && self.elevation[0].is_finite()
-            || !(self.max_spin < MAX_SPIN)
-    }
-
     /// The cycle of a run that ended at `f`.
-    pub fn finish(&self, f: &Flight, seconds: f64) -> LimitCycle {
+    pub(crate) fn finish(&self, f: &Flight, seconds: f64) -> LimitCycle {
         let crashed = f.crashed() || f.time() + 1e-9 < self.from;
         let inside = !crashed
             && self.elevation[0] > MIN_ELEVATION_DEG
@@ -107,7 +101,7 @@ impl Recorder {
 impl LimitCycle {
     /// The worse of two runs (the gusts push a kite both ways along its
     /// mode, so it must stay inside the limits on both).
-    pub fn worse(self, other: Self) -> Self {
+    pub(crate) fn worse(self, other: Self) -> Self {
         Self {
             seconds: self.seconds.max(other.seconds),
             crashed: self.crashed || other.crashed,

@@ -66,7 +66,7 @@ pub struct StrongGust {
 
 /// The strong-gust test of `design` in the mean wind `mean` (m/s), from
 /// its equilibrium `from` there (module doc).
-pub fn strong_gust(design: &Design, mean: f64, from: &State<f64>) -> Result<StrongGust> {
+pub(crate) fn strong_gust(design: &Design, mean: f64, from: &State<f64>) -> Result<StrongGust> {
     let opts = FlightOptions::default();
     let wind = crate::wind::Wind::new(mean, opts.gust, 0);
     let span = gust_seconds(mean);
