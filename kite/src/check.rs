@@ -209,7 +209,9 @@ pub fn check_at(
         equilibrium: equilibrium.is_some(),
         statically_stable: statics.stable,
         dynamically_stable: modes.stable,
-        gust_tolerant: modes.gusts.as_ref().is_some_and(|g| g.ok),
+        saturates: modes.bounded,
+        gust_tolerant: modes.gusts.as_ref().is_some_and(|g| g.ok)
+            && modes.strong_gust.as_ref().is_some_and(|g| g.ok),
     });
     let mut reasons = frame_reasons(design, &unjoined);
     reasons.extend(reasons_after_frame(
@@ -325,16 +327,33 @@ fn reasons_after_frame(
             statics.at, a.axis[0], a.axis[1], a.axis[2], a.eigenvalue
         ));
     }
+    let saturates = modes.limit_cycle.as_ref().filter(|c| c.inside_limits);
     for m in modes.modes.iter().filter(|m| !m.stable) {
-        reasons.push(format!(
-            "dynamically unstable: {} mode grows at {:+.3}/s",
-            m.motion, m.real
-        ));
+        reasons.push(match saturates {
+            Some(c) => format!(
+                "{} mode grows at {:+.3}/s but saturates in a limit cycle inside the flight's limits (line elevation {:.1}-{:.1}°, |Omega| <= {:.2} rad/s in steady wind)",
+                m.motion, m.real, c.elevation_deg[0], c.elevation_deg[1], c.max_spin
+            ),
+            None => format!(
+                "dynamically unstable: {} mode grows at {:+.3}/s",
+                m.motion, m.real
+            ),
+        });
     }
     if let Some(g) = modes.gusts.as_ref().filter(|g| !g.ok) {
         reasons.push(format!(
             "gust sensitive: {} m/s gusts are predicted to take the line down to {:.1}° (limit {:.0}°), the spin up to {:.2} rad/s (limit {:.1}), the kite down to {:.2} m (limit {:.1})",
             g.gust, g.min_elevation_deg, g.limits[0], g.max_spin, g.limits[1], g.min_height, g.limits[2]
+        ));
+    }
+    if let Some(g) = modes.strong_gust.as_ref().filter(|g| !g.ok) {
+        let m = &g.motion;
+        reasons.push(format!(
+            "gust sensitive: a 1 - cos gust to {:.1} m/s takes the line down to {:.1}° (limit 15°), the spin up to {:.2} rad/s{}",
+            g.wind,
+            m.elevation_deg[0],
+            m.max_spin,
+            if m.crashed { ", the kite to the ground" } else { "" }
         ));
     }
     reasons

@@ -30,8 +30,19 @@
 //! The spin `|Ω|` is taken as the norm of the three body rates: its `σ`
 //! is `√(Σ m_0)` and it is given the same peak factor (an approximation:
 //! `|Ω|` is not Gaussian).
+//!
+//! A kite on a limit cycle ([`crate::limit_cycle`]: a growing mode that
+//! saturates) has no stable linearisation. Its gust response is taken
+//! from the same `A`, `B` (the frequency response `(iω - A)⁻¹` exists
+//! while no eigenvalue lies on the imaginary axis, and a mode `σ ± iω₀`
+//! contributes `|1/(iω - σ ∓ iω₀)|`, the same magnitude as the damped mode
+//! `-σ ± iω₀`: the growing mode is sized as if the saturation damped it at
+//! the rate it grows), and the extremes are taken from the cycle's own:
+//! lowest elevation and height minus the gust's peak, largest spin plus
+//! it (an upper bound: the two need not peak together).
 
 use crate::flight_step::{Flight, FlightOptions, GROUND_CLEARANCE, MAX_SPIN, MIN_ELEVATION_DEG};
+use crate::limit_cycle::LimitCycle;
 use crate::linearise::{perturb, InputMatrix, StateMatrix, Tangent, STATES, STEP};
 use crate::wind::Wind;
 use nalgebra::{Complex, SMatrix};
@@ -125,9 +136,16 @@ fn phi(z: f64) -> f64 {
     }
 }
 
-/// The gust response about the equilibrium `eq` (at rest) of the steady
-/// `flight`, with its state matrix `a` and gust input `b`.
-pub fn response(flight: &Flight, eq: &State<f64>, a: &StateMatrix, b: &InputMatrix) -> GustReport {
+/// The gust response about the equilibrium `eq` of the steady `flight`,
+/// with its state matrix `a` and gust input `b`, at rest there or (with
+/// `cycle`) on the limit cycle its growing mode ends in.
+pub fn response(
+    flight: &Flight,
+    eq: &State<f64>,
+    a: &StateMatrix,
+    b: &InputMatrix,
+    cycle: Option<&LimitCycle>,
+) -> GustReport {
     let opts = FlightOptions::default();
     let wind = Wind::new(flight.wind_model().mean.norm(), opts.gust, 0);
     let elevation_row = elevation_row(flight, eq);
@@ -158,9 +176,13 @@ pub fn response(flight: &Flight, eq: &State<f64>, a: &StateMatrix, b: &InputMatr
         spin.iter().map(|s| s.1).sum(),
     );
     let at_rest = flight.line().elevation_deg(eq);
-    let min_elevation = at_rest - elevation.peak(half);
-    let max_spin = spin_total.peak(half);
-    let min_height = eq.position.z - height.peak(opts.seconds);
+    // Without gusts: at rest, or the cycle's extremes.
+    let (low, spun, lowest) = cycle.map_or((at_rest, 0.0, eq.position.z), |c| {
+        (c.elevation_deg[0], c.max_spin, c.min_height)
+    });
+    let min_elevation = low - elevation.peak(half);
+    let max_spin = spun + spin_total.peak(half);
+    let min_height = lowest - height.peak(opts.seconds);
     // Each room is taken as a magnitude, so a kite resting past a limit
     // (a line below 15° at rest) has a negative margin.
     let fraction = |extreme: f64, rest: f64, limit: f64| {
@@ -181,6 +203,18 @@ pub fn response(flight: &Flight, eq: &State<f64>, a: &StateMatrix, b: &InputMatr
         margin,
         ok: margin > 0.0,
     }
+}
+
+/// The expected largest along-wind gust (m/s above the mean) of `wind`
+/// over `span` seconds, counting only its sinusoids up to `max_hz`: their
+/// spectral moments and Rice's peak factor, as for the kite's outputs.
+pub(crate) fn along_wind_peak(wind: &Wind, span: f64, max_hz: f64) -> f64 {
+    let mut m = Moments::default();
+    for &(amp, f) in wind.spectrum()[0].iter().filter(|(_, f)| *f <= max_hz) {
+        let omega = 2.0 * std::f64::consts::PI * f;
+        m.add(Complex::new(1.0, 0.0), amp * amp / 2.0, omega);
+    }
+    m.peak(span)
 }
 
 /// `∂(line elevation, deg)/∂x` at `eq` by central differences.

@@ -4,7 +4,11 @@
 //! model `kite fly` integrates — reported as XFLR5 and the
 //! Vortex-Step-Method tools report them: eigenvalue `λ = σ ± iω` (1/s),
 //! frequency `ω/2π` (Hz), damping ratio `ζ = -σ/|λ|`, and the motion in
-//! words. The kite is dynamically stable when every `σ < 0`.
+//! words. The kite is dynamically stable when every `σ < 0`. When a mode
+//! grows, where the growth ends is measured on the nonlinear flight
+//! ([`crate::limit_cycle`]); the verdict's dynamic test is that the motion
+//! is [`ModesReport::bounded`]: at rest, or on a limit cycle inside the
+//! flight's limits.
 //!
 //! The motion is named by where the mode's kinetic energy goes (from the
 //! eigenvector's position and attitude parts: `M|δy_k|²` per line axis,
@@ -17,8 +21,10 @@
 use crate::equilibrium::Equilibrium;
 use crate::flight_step::{Flight, FlightOptions};
 use crate::gusts::{response, GustReport};
+use crate::limit_cycle::LimitCycle;
 use crate::linearise::{eigenvector, input_matrix, state_matrix, CVector, StateMatrix};
-use crate::settle::settled_equilibrium;
+use crate::settle::settle;
+use crate::strong_gust::{strong_gust, StrongGust};
 use crate::Design;
 use anyhow::Result;
 use nalgebra::{Complex, Matrix3, Vector3};
@@ -77,10 +83,21 @@ pub struct ModesReport {
     pub max_growth_rate: f64,
     /// An equilibrium exists and every mode decays.
     pub stable: bool,
+    /// Where the growing modes end when some mode grows
+    /// ([`crate::limit_cycle`]): the steady-wind flight from the
+    /// equilibrium nudged along the fastest one (the worse of both ways).
+    pub limit_cycle: Option<LimitCycle>,
+    /// The kite rests at the equilibrium (`stable`) or its growing modes
+    /// saturate in a limit cycle inside the flight's limits: the dynamic
+    /// test of the verdict.
+    pub bounded: bool,
     /// The predicted response to `kite fly`'s gusts ([`crate::gusts`]);
-    /// `None` unless every mode decays (a growing mode has no steady
-    /// response).
+    /// `None` unless the motion is `bounded` (a growth without end has no
+    /// steady response).
     pub gusts: Option<GustReport>,
+    /// The settled state in the steady wind of the strongest expected gust
+    /// ([`crate::strong_gust`]); `None` unless the linear gust test passes.
+    pub strong_gust: Option<StrongGust>,
 }
 
 impl ModesReport {
@@ -91,7 +108,10 @@ impl ModesReport {
             modes: Vec::new(),
             max_growth_rate: f64::NAN,
             stable: false,
+            limit_cycle: None,
+            bounded: false,
             gusts: None,
+            strong_gust: None,
         }
     }
 }
@@ -109,9 +129,10 @@ pub fn steady_flight(design: &Design, wind: Option<f64>) -> Result<Flight> {
 /// The equilibrium and the modes about it.
 pub fn analyse(design: &Design, wind: Option<f64>) -> Result<(Option<Equilibrium>, ModesReport)> {
     let flight = steady_flight(design, wind)?;
-    let Some(eq) = settled_equilibrium(&flight) else {
+    let Some(settled) = settle(&flight) else {
         return Ok((None, ModesReport::none()));
     };
+    let (eq, cycle) = (settled.equilibrium, settled.cycle);
     let a = state_matrix(&flight, &eq.state);
     let modes = modes_of(&flight, &eq, &a);
     let max = modes
@@ -120,7 +141,19 @@ pub fn analyse(design: &Design, wind: Option<f64>) -> Result<(Option<Equilibrium
         .fold(f64::NEG_INFINITY, f64::max);
     let (x, y, z) = eq.state.orientation.euler_angles();
     let stable = modes.iter().all(|m| m.stable);
-    let gusts = stable.then(|| response(&flight, &eq.state, &a, &input_matrix(&flight, &eq.state)));
+    let bounded = stable || cycle.as_ref().is_some_and(|c| c.inside_limits);
+    let gusts = bounded.then(|| {
+        let b = input_matrix(&flight, &eq.state);
+        response(&flight, &eq.state, &a, &b, cycle.as_ref())
+    });
+    let strong_gust = match &gusts {
+        Some(g) if g.ok => Some(strong_gust(
+            design,
+            flight.wind_model().mean.norm(),
+            &eq.state,
+        )?),
+        _ => None,
+    };
     let report = ModesReport {
         equilibrium: Some(EquilibriumReport {
             elevation_deg: eq.elevation_deg,
@@ -129,7 +162,10 @@ pub fn analyse(design: &Design, wind: Option<f64>) -> Result<(Option<Equilibrium
             turn_deg: eq.turn_deg,
         }),
         stable,
+        limit_cycle: cycle,
+        bounded,
         gusts,
+        strong_gust,
         max_growth_rate: max,
         modes,
     };
@@ -252,8 +288,14 @@ pub fn render(r: &ModesReport) -> String {
     for line in lines(r) {
         s += &format!("    {line}\n");
     }
+    if let Some(c) = &r.limit_cycle {
+        s += &crate::limit_cycle::render(c);
+    }
     if let Some(g) = &r.gusts {
         s += &crate::gusts::render(g);
+    }
+    if let Some(g) = &r.strong_gust {
+        s += &crate::strong_gust::render(g);
     }
     s
 }

@@ -16,9 +16,23 @@
 //!    `statically_unstable`;
 //! 5. every mode of the linearised tethered kite decays
 //!    ([`crate::modes`]) — else `dynamically_unstable`;
+//!
+//!    unless, for 4 and 5, the kite let go from the equilibrium along its
+//!    fastest-growing mode ends, in the steady-wind flight, in a bounded
+//!    motion inside the flight's limits ([`crate::limit_cycle`]: a limit
+//!    cycle; a divergence that ends at another, stable equilibrium is
+//!    judged there, [`crate::settle`]). Such a kite flies: the growth the
+//!    linearisation predicts is real (the flight grows at the predicted
+//!    rate), but it stops at a small amplitude. So `statically_unstable`
+//!    and `dynamically_unstable` name a divergence or a growing mode that
+//!    does NOT end inside the limits (it crashes, loops, or lies low);
+//!    `stable` means the kite rests, or circles on a small limit cycle
+//!    (`modes.limit_cycle` in the JSON says which), inside the limits;
 //! 6. the gusts of `kite fly` keep it inside the flight's limits: the
 //!    linear gust response's expected extremes of line elevation, spin and
-//!    height ([`crate::gusts`]) — else `gust_sensitive`.
+//!    height ([`crate::gusts`]), and the settled state in the steady wind
+//!    of the strongest expected gust ([`crate::strong_gust`]) — else
+//!    `gust_sensitive`.
 
 use serde::Serialize;
 
@@ -26,7 +40,8 @@ use serde::Serialize;
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Verdict {
-    /// Every test passes: the kite will fly.
+    /// Every test passes: the kite will fly (at rest on its line, or on a
+    /// small limit cycle inside the flight's limits).
     Stable,
     /// The frame is in more than one piece.
     Disconnected,
@@ -36,9 +51,11 @@ pub enum Verdict {
     StringPushes,
     /// No equilibrium of the tethered kite near the file's attitude.
     NoEquilibrium,
-    /// A divergent direction of §7's Jacobian at equilibrium.
+    /// A divergent direction of §7's Jacobian at equilibrium, and the
+    /// divergence does not end inside the flight's limits.
     StaticallyUnstable,
-    /// A growing mode of the linearised tethered kite.
+    /// A growing mode of the linearised tethered kite that does not
+    /// saturate inside the flight's limits.
     DynamicallyUnstable,
     /// Every mode decays, but the gusts are predicted to swing the kite
     /// past the flight's limits (line too low, spinning, on the ground).
@@ -75,6 +92,9 @@ pub struct Tests {
     pub statically_stable: bool,
     /// Every mode decays.
     pub dynamically_stable: bool,
+    /// The motion a growing mode or divergence ends in stays inside the
+    /// flight's limits (a limit cycle; [`crate::modes::ModesReport::bounded`]).
+    pub saturates: bool,
     /// The predicted gust response stays inside the flight's limits.
     pub gust_tolerant: bool,
 }
@@ -89,13 +109,56 @@ pub fn verdict(t: &Tests) -> Verdict {
         Verdict::StringPushes
     } else if !t.equilibrium {
         Verdict::NoEquilibrium
-    } else if !t.statically_stable {
+    } else if !t.statically_stable && !t.saturates {
         Verdict::StaticallyUnstable
-    } else if !t.dynamically_stable {
+    } else if !t.dynamically_stable && !t.saturates {
         Verdict::DynamicallyUnstable
     } else if !t.gust_tolerant {
         Verdict::GustSensitive
     } else {
         Verdict::Stable
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn passing() -> Tests {
+        Tests {
+            unjoined: 0,
+            overlaps: 0,
+            pulls_down: true,
+            equilibrium: true,
+            statically_stable: true,
+            dynamically_stable: true,
+            saturates: false,
+            gust_tolerant: true,
+        }
+    }
+
+    #[test]
+    fn a_bounded_motion_passes_the_linear_tests_but_not_the_gust_test() {
+        let grows = Tests {
+            dynamically_stable: false,
+            ..passing()
+        };
+        assert_eq!(verdict(&grows), Verdict::DynamicallyUnstable);
+        let diverges = Tests {
+            statically_stable: false,
+            ..grows
+        };
+        assert_eq!(verdict(&diverges), Verdict::StaticallyUnstable);
+        let saturates = Tests {
+            saturates: true,
+            ..diverges
+        };
+        assert_eq!(verdict(&saturates), Verdict::Stable);
+        let gusty = Tests {
+            gust_tolerant: false,
+            ..saturates
+        };
+        assert_eq!(verdict(&gusty), Verdict::GustSensitive);
+        assert_eq!(verdict(&passing()), Verdict::Stable);
     }
 }

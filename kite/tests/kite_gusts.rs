@@ -12,6 +12,15 @@ use omniad_kite::check::{self, Verdict};
 use omniad_kite::flight::{self, FlightOptions, Outcome, MIN_ELEVATION_DEG};
 use omniad_kite::spec::StringSpec;
 
+/// The string attached `offset` (m) along the eq. (16) line.
+fn move_string(design: &mut omniad_kite::Design, offset: f64) {
+    design.spec.string = StringSpec {
+        gamma: None,
+        offset: Some(offset),
+        length: design.spec.string.length,
+    };
+}
+
 #[test]
 fn a_low_hanging_variant_is_gust_sensitive_and_crashes() {
     let mut design = common::kite("fig15-b");
@@ -20,11 +29,7 @@ fn a_low_hanging_variant_is_gust_sensitive_and_crashes() {
     assert!(g.ok && g.min_elevation_deg > MIN_ELEVATION_DEG, "{g:?}");
     assert_eq!(file.verdict, Verdict::Stable);
 
-    design.spec.string = StringSpec {
-        gamma: None,
-        offset: Some(file.attachment_offset - 0.10),
-        length: design.spec.string.length,
-    };
+    move_string(&mut design, file.attachment_offset - 0.10);
     let c = check::check(&design, None).unwrap();
     assert!(c.modes.stable, "{}", check::render(&c));
     let g = c.modes.gusts.as_ref().expect("every mode decays");
@@ -39,5 +44,39 @@ fn a_low_hanging_variant_is_gust_sensitive_and_crashes() {
         },
     )
     .unwrap();
+    assert_eq!(f.outcome, Outcome::Crashes, "{}", flight::render(&f));
+}
+
+/// `fig15-d` with its string 10 cm lower hangs at 24° with every mode
+/// decaying and a linear gust response inside the limits, but its
+/// equilibrium falls with the wind speed (20° at 5.5 m/s, 13° at 6) and
+/// folds: one strong "1 - cos" gust takes its line below the flight's
+/// limit, and its gusty flight dives into the ground. The file itself
+/// climbs in the stronger wind and passes.
+#[test]
+fn a_kite_that_dives_in_a_strong_gust_is_gust_sensitive_and_crashes() {
+    let mut design = common::kite("fig15-d");
+    let file = check::check(&design, None).unwrap();
+    let strong = file
+        .modes
+        .strong_gust
+        .as_ref()
+        .expect("linear gust test passes");
+    assert!(strong.ok, "{}", check::render(&file));
+    assert_eq!(file.verdict, Verdict::Stable);
+
+    move_string(&mut design, file.attachment_offset - 0.10);
+    let c = check::check(&design, None).unwrap();
+    let report = check::render(&c);
+    assert!(c.modes.stable, "{report}");
+    assert!(c.modes.gusts.as_ref().is_some_and(|g| g.ok), "{report}");
+    let strong = c.modes.strong_gust.as_ref().expect("strong gust tested");
+    assert!(!strong.ok, "{report}");
+    assert!(
+        strong.motion.elevation_deg[0] < MIN_ELEVATION_DEG,
+        "{report}"
+    );
+    assert_eq!(c.verdict, Verdict::GustSensitive, "{report}");
+    let f = flight::fly(&design, &FlightOptions::default()).unwrap();
     assert_eq!(f.outcome, Outcome::Crashes, "{}", flight::render(&f));
 }
