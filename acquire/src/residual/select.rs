@@ -364,14 +364,6 @@ pub(crate) fn select(
             if let Some(s) = s {
                 eligible.push((c, t.score_gain, s));
             }
-            if std::env::var_os("AMTQ_DEBUG").is_some() {
-                eprintln!(
-                    "AMTQ s{step} {:<18} F {:.4} T {:.6} g {:6.1} tg {:6.1} sg {:6.1} {}/{} {:?} {:?}",
-                    t.candidate.name(), t.force_rms, t.torque_rms, t.gain * 100.0,
-                    t.torque_gain * 100.0, t.score_gain * 100.0, t.takes_better.0,
-                    t.takes_better.1, t.rejected, &t.params[..t.params.len().min(6)]
-                );
-            }
             tried.push(t);
         }
         let Some(pick) = choose(&eligible) else { break };
