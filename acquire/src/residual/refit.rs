@@ -248,8 +248,11 @@ fn steps(trial: &StateEffects, next: &StateEffects) -> Steps {
 /// round: the state effects found on states reconstructed with `x`),
 /// which converges linearly: with successive steps `d = f(x) - x` and
 /// `d'` the previous one, the contraction ratio is `r ≈ (d·d')/|d'|²`
-/// (clamped to `[0, MAX_RATIO]`) and the fixed point `x + d/(1 - r)`; per
-/// effect (wind and M_a have their own ratios). The first step is plain.
+/// (clamped to `[-MAX_RATIO, MAX_RATIO]`) and the fixed point
+/// `x + d/(1 - r)`; per effect (wind and M_a have their own ratios). A
+/// negative ratio is an oscillation (box `added_mass=1.0` seed 1: M_a
+/// alternating between two values, r ≈ -1), which the step then damps
+/// towards the cycle's middle. The first step is plain.
 /// M_a is projected onto PSD tensors again.
 fn accelerate(
     trial: &StateEffects,
@@ -266,7 +269,7 @@ fn accelerate(
         let r = dot(d, p) / dot(p, p);
         1.0 / (1.0
             - if r.is_finite() {
-                r.clamp(0.0, MAX_RATIO)
+                r.clamp(-MAX_RATIO, MAX_RATIO)
             } else {
                 0.0
             })
