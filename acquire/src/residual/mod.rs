@@ -62,6 +62,11 @@ pub struct CandidateReport {
     pub heldout_torque_rms: f64,
     /// Relative gain of the weighted held-out force error.
     pub gain: f64,
+    /// Relative gain of the held-out squared torque error.
+    pub torque_gain: f64,
+    /// Relative gain of force and torque together, each in units of its
+    /// baseline (what the selection ranks by, [`select`]).
+    pub score_gain: f64,
     /// Held-out takes predicted better.
     pub takes_better: usize,
     /// Held-out takes.
@@ -201,6 +206,8 @@ pub fn analyse(
             heldout_force_rms: t.force_rms,
             heldout_torque_rms: t.torque_rms,
             gain: t.gain,
+            torque_gain: t.torque_gain,
+            score_gain: t.score_gain,
             takes_better: t.takes_better.0,
             takes: t.takes_better.1,
             params: t.params.clone(),

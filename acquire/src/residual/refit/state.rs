@@ -118,8 +118,8 @@ pub(crate) fn steps(trial: &StateEffects, next: &StateEffects) -> Steps {
     }
 }
 
-/// `1/(1 - r)` with `r = (d·d')/|d'|²` clamped to `[0, MAX_RATIO]`; 1
-/// without a comparable previous step.
+/// `1/(1 - r)` with `r = (d·d')/|d'|²` clamped to `[-MAX_RATIO,
+/// MAX_RATIO]`; 1 without a comparable previous step.
 fn factor(d: &[f64], p: Option<&Vec<f64>>) -> f64 {
     let p = match p {
         Some(p) if p.len() == d.len() && !d.is_empty() => p,
@@ -129,7 +129,7 @@ fn factor(d: &[f64], p: Option<&Vec<f64>>) -> f64 {
     let r = dot(d, p) / dot(p, p);
     1.0 / (1.0
         - if r.is_finite() {
-            r.clamp(0.0, MAX_RATIO)
+            r.clamp(-MAX_RATIO, MAX_RATIO)
         } else {
             0.0
         })
@@ -139,9 +139,12 @@ fn factor(d: &[f64], p: Option<&Vec<f64>>) -> f64 {
 /// round: the state effects found on states reconstructed with `x`),
 /// which converges linearly: with successive steps `d = f(x) - x` and
 /// `d'` the previous one, the contraction ratio is `r ≈ (d·d')/|d'|²`
-/// (clamped to `[0, MAX_RATIO]`) and the fixed point `x + d/(1 - r)`; per
-/// effect (the wind and each named effect have their own ratios). The
-/// first step is plain. M_a is projected onto PSD tensors again.
+/// (clamped to `[-MAX_RATIO, MAX_RATIO]`) and the fixed point
+/// `x + d/(1 - r)`; per effect (the wind and each named effect have their
+/// own ratios). A negative ratio is an oscillation (box `added_mass=1.0`
+/// seed 1: M_a alternating between two values, r ≈ -1), which the step
+/// then damps towards the cycle's middle. The first step is plain. M_a is
+/// projected onto PSD tensors again.
 pub(crate) fn accelerate(
     trial: &StateEffects,
     next: &StateEffects,
