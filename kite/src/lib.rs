@@ -40,6 +40,7 @@ mod settle;
 pub mod sockets;
 pub mod spec;
 mod tether;
+pub mod trial_flights;
 pub mod trimming;
 pub mod verdict;
 pub mod wind;

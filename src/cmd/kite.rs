@@ -20,8 +20,10 @@ pub enum KiteCommand {
     Fly(FlyArgs),
     /// OpenSCAD sockets for every rod joint, a cut list, an SVG drawing.
     Export(ExportArgs),
-    /// Searches pitch, string offset and primitive yaws for the largest
-    /// stability margin; writes the best design.
+    /// Searches pitch, string offset and each primitive's yaw, roll and
+    /// place across the wind for the largest stability margin (gust
+    /// margin, settling, damping), flies the best designs on its own
+    /// seeds 101-103, writes the one that flies by the widest margin.
     Optimise(OptimiseArgs),
 }
 
