@@ -135,6 +135,55 @@ pub fn pick<T>(
     })
 }
 
+/// The flight phase's compass search: from `x` (flown as `start`),
+/// each parameter `k` moved by `±step[k]` (kept when `inside`), each trial
+/// flown by `trial` (`None`: not a candidate, e.g. not `stable`; not
+/// counted), a move kept when its worst flight margin is larger, the
+/// steps halved when none is, until `budget` trials have been flown. The
+/// best parameters, their flights and the trials flown.
+pub fn refine(
+    x: Vec<f64>,
+    start: Flown,
+    mut step: Vec<f64>,
+    inside: &dyn Fn(usize, f64) -> bool,
+    trial: &mut dyn FnMut(&[f64]) -> Option<Flown>,
+    budget: usize,
+) -> (Vec<f64>, Flown, usize) {
+    let (mut x, mut best, mut spent, mut halvings) = (x, start, 0, 0);
+    // After a few halvings the steps are below what the flights can tell
+    // apart.
+    while halvings < REFINE_HALVINGS {
+        let mut moved = false;
+        for k in 0..x.len() {
+            for sign in [1.0, -1.0] {
+                if spent >= budget {
+                    return (x, best, spent);
+                }
+                let mut t = x.clone();
+                t[k] += sign * step[k];
+                if !inside(k, t[k]) {
+                    continue;
+                }
+                let Some(f) = trial(&t) else {
+                    continue;
+                };
+                spent += 1;
+                if f.margin > best.margin {
+                    (x, best, moved) = (t, f, true);
+                }
+            }
+        }
+        if !moved {
+            step.iter_mut().for_each(|s| *s /= 2.0);
+            halvings += 1;
+        }
+    }
+    (x, best, spent)
+}
+
+/// Halvings of the steps (sweeps without a gain) before [`refine`] stops.
+const REFINE_HALVINGS: usize = 3;
+
 #[cfg(test)]
 mod tests {
     use super::*;
