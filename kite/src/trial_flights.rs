@@ -229,6 +229,34 @@ mod tests {
     }
 
     #[test]
+    fn refine_climbs_the_margin_within_its_budget() {
+        // A margin peaked at (0.3, -0.2); a trial at x[0] < -1 is not a
+        // candidate (not stable) and costs nothing.
+        let margin = |x: &[f64]| 1.0 - (x[0] - 0.3).powi(2) - (x[1] + 0.2).powi(2);
+        let flown = |x: &[f64]| Flown {
+            outcomes: vec![Outcome::Flies],
+            margin: margin(x),
+        };
+        let mut trial = |x: &[f64]| (x[0] >= -1.0).then(|| flown(x));
+        let inside = |_: usize, v: f64| v.abs() <= 1.0;
+        let start = vec![-1.0, 0.0];
+        let (x, f, spent) = refine(
+            start.clone(),
+            flown(&start),
+            vec![0.4, 0.4],
+            &inside,
+            &mut trial,
+            40,
+        );
+        assert!(spent <= 40, "{spent}");
+        assert!(f.margin > 0.98, "{x:?} {}", f.margin);
+        assert!((f.margin - margin(&x)).abs() < 1e-12);
+        // A budget of nothing flies nothing and keeps the start.
+        let (x, _, spent) = refine(start.clone(), flown(&start), vec![0.4; 2], &inside, &mut trial, 0);
+        assert_eq!((x, spent), (start, 0));
+    }
+
+    #[test]
     fn check_seeds_are_not_the_report_seeds() {
         assert!(CHECK_SEEDS.iter().all(|s| !REPORT_SEEDS.contains(s)));
     }
