@@ -78,9 +78,8 @@ pub fn fly_on(design: &Design, seeds: &[u64]) -> Flown {
             seed,
             ..Default::default()
         };
-        let (o, m) = fly(design, &opts).map_or((Outcome::Crashes, -2.0), |f| {
-            (f.outcome, flight_margin(&f))
-        });
+        let (o, m) =
+            fly(design, &opts).map_or((Outcome::Crashes, -2.0), |f| (f.outcome, flight_margin(&f)));
         outcomes.push(o);
         margin = margin.min(m);
     }
@@ -116,7 +115,10 @@ pub fn pick<T>(
         if flown.len() >= at_most {
             break;
         }
-        if flown.iter().any(|&j| candidates.get(j).is_some_and(|d| near(c, d))) {
+        if flown
+            .iter()
+            .any(|&j| candidates.get(j).is_some_and(|d| near(c, d)))
+        {
             continue;
         }
         let Some(design) = build(c) else {
@@ -252,7 +254,14 @@ mod tests {
         assert!(f.margin > 0.98, "{x:?} {}", f.margin);
         assert!((f.margin - margin(&x)).abs() < 1e-12);
         // A budget of nothing flies nothing and keeps the start.
-        let (x, _, spent) = refine(start.clone(), flown(&start), vec![0.4; 2], &inside, &mut trial, 0);
+        let (x, _, spent) = refine(
+            start.clone(),
+            flown(&start),
+            vec![0.4; 2],
+            &inside,
+            &mut trial,
+            0,
+        );
         assert_eq!((x, spent), (start, 0));
     }
 

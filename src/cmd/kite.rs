@@ -98,6 +98,10 @@ pub struct OptimiseArgs {
     /// Largest number of designs checked.
     #[arg(long, default_value_t = 200)]
     pub evaluations: usize,
+    /// Designs flown (three 60 s flights each, seeds 101-103) by the
+    /// nonlinear check (default: the library's).
+    #[arg(long)]
+    pub flown: Option<usize>,
     /// Print JSON.
     #[arg(long)]
     pub json: bool,
@@ -233,9 +237,10 @@ fn optimise(a: &OptimiseArgs) -> Result<()> {
         .parent()
         .map_or_else(|| PathBuf::from("."), Path::to_path_buf);
     let assemble = |spec| Design::assemble(spec, &base, &library);
+    let defaults = omniad_kite::optimise::OptimiseOptions::default();
     let opts = omniad_kite::optimise::OptimiseOptions {
         max_evaluations: a.evaluations,
-        ..Default::default()
+        flown: a.flown.unwrap_or(defaults.flown),
     };
     let report = omniad_kite::optimise::optimise(&design, &assemble, &opts)?;
     report.spec.save(&a.output)?;
