@@ -20,8 +20,10 @@ pub enum KiteCommand {
     Fly(FlyArgs),
     /// OpenSCAD sockets for every rod joint, a cut list, an SVG drawing.
     Export(ExportArgs),
-    /// Searches pitch, string offset and primitive yaws for the largest
-    /// stability margin; writes the best design.
+    /// Searches pitch, string offset and each primitive's yaw, roll and
+    /// place across the wind for the largest stability margin (gust
+    /// margin, settling, damping), flies the best designs on its own
+    /// seeds 101-103, writes the one that flies by the widest margin.
     Optimise(OptimiseArgs),
 }
 
@@ -96,6 +98,10 @@ pub struct OptimiseArgs {
     /// Largest number of designs checked.
     #[arg(long, default_value_t = 200)]
     pub evaluations: usize,
+    /// Designs flown (three 60 s flights each, seeds 101-103) by the
+    /// nonlinear check (default: the library's).
+    #[arg(long)]
+    pub flown: Option<usize>,
     /// Print JSON.
     #[arg(long)]
     pub json: bool,
@@ -231,9 +237,10 @@ fn optimise(a: &OptimiseArgs) -> Result<()> {
         .parent()
         .map_or_else(|| PathBuf::from("."), Path::to_path_buf);
     let assemble = |spec| Design::assemble(spec, &base, &library);
+    let defaults = omniad_kite::optimise::OptimiseOptions::default();
     let opts = omniad_kite::optimise::OptimiseOptions {
         max_evaluations: a.evaluations,
-        ..Default::default()
+        flown: a.flown.unwrap_or(defaults.flown),
     };
     let report = omniad_kite::optimise::optimise(&design, &assemble, &opts)?;
     report.spec.save(&a.output)?;
