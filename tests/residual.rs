@@ -24,6 +24,16 @@ fn residual(set: &str, extra: &[&str]) -> serde_json::Value {
     serde_json::from_str(&omniad(&args)).expect("JSON report")
 }
 
+/// The report's candidate `effect` tried at selection step `step`.
+fn candidate<'a>(r: &'a serde_json::Value, effect: &str, step: u64) -> &'a serde_json::Value {
+    r["candidates"]
+        .as_array()
+        .expect("candidates")
+        .iter()
+        .find(|c| c["effect"] == effect && c["step"] == step)
+        .unwrap_or_else(|| panic!("{effect} tried at step {step}: {r:#}"))
+}
+
 #[test]
 fn residual_names_buoyancy_and_clean_air_gets_nothing() {
     let tmp = tempfile::tempdir().expect("tempdir");
@@ -50,12 +60,7 @@ fn residual_names_buoyancy_and_clean_air_gets_nothing() {
         ],
     );
     assert_eq!(r["selected"][0], "buoyancy", "{r:#}");
-    let kept = r["candidates"]
-        .as_array()
-        .expect("candidates")
-        .iter()
-        .find(|c| c["effect"] == "buoyancy" && c["step"] == 0)
-        .expect("buoyancy tried");
+    let kept = candidate(&r, "buoyancy", 0);
     let vb = kept["params"][0].as_f64().expect("V_b");
     assert!(
         (vb - 0.012).abs() < 0.15 * 0.012,
@@ -183,12 +188,8 @@ fn residual_with_given_coeffs() {
         .expect("markers-only noise");
     assert!(floor > 0.0 && floor.is_finite(), "noise floor {floor}");
     assert_eq!(r["selected"][0], "buoyancy", "{r:#}");
-    let vb = r["candidates"]
-        .as_array()
-        .expect("candidates")
-        .iter()
-        .find(|c| c["effect"] == "buoyancy" && c["step"] == 0)
-        .and_then(|c| c["params"][0].as_f64())
+    let vb = candidate(&r, "buoyancy", 0)["params"][0]
+        .as_f64()
         .expect("V_b");
     assert!(
         (vb - 0.012).abs() < 0.15 * 0.012,
@@ -280,12 +281,7 @@ fn added_mass_is_not_also_given_buoyancy() {
         !names.contains(&"buoyancy") && !names.contains(&"gravity_coupling"),
         "{names:?}"
     );
-    let refused = r["candidates"]
-        .as_array()
-        .expect("candidates")
-        .iter()
-        .find(|c| c["effect"] == "buoyancy" && c["step"] == 1)
-        .expect("buoyancy tried after added mass");
+    let refused = candidate(&r, "buoyancy", 1);
     let why = refused["rejected"].as_str().unwrap_or("");
     assert!(why.contains("not identifiable"), "{refused:#}");
     let cf = r["cf_error_vs_truth"]["after"].as_f64().expect("C_F error");
