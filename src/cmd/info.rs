@@ -99,7 +99,7 @@ fn summary(m: &Coefficients<f64>) -> serde_json::Value {
         })),
         "effects": m.effects().iter().map(|e| json!({
             "effect": e.kind.name(),
-            "params": &e.params[..e.kind.param_count().min(e.params.len())],
+            "params": e.used_params(),
         })).collect::<Vec<_>>(),
     })
 }
@@ -162,8 +162,7 @@ fn print_text(m: &Coefficients<f64>, s: &serde_json::Value) {
         println!("gravity coupling:  buoyancy-equivalent volume {v:.3e} m^3 (F = ρL³ G Rᵀg){note}");
     }
     for e in m.effects() {
-        let n = e.kind.param_count().min(e.params.len());
-        println!("effect:            {} {:?}", e.kind.name(), &e.params[..n]);
+        println!("effect:            {} {:?}", e.kind.name(), e.used_params());
     }
     if let Some(s) = m.spin_coupling() {
         println!(

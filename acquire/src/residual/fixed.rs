@@ -40,9 +40,7 @@ pub fn check(model: &Coefficients<f64>, set: &RecordingSet) -> std::result::Resu
 /// column order (`None`: not stored; a wind is never stored).
 pub(crate) fn stored(model: &Coefficients<f64>, c: Candidate) -> Option<Vec<f64>> {
     match c {
-        Candidate::Named(kind) => model
-            .effect(kind)
-            .map(|e| e.params.iter().take(kind.param_count()).copied().collect()),
+        Candidate::Named(kind) => model.effect(kind).map(|e| e.used_params().to_vec()),
         Candidate::Wind => None,
         Candidate::SpinCoupling => model
             .spin_coupling()

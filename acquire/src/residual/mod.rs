@@ -162,7 +162,8 @@ pub struct Analysis {
 /// reconstructed without any effect, then the refits around the wind and
 /// the named effects it finds ([`refit`]). `baseline` is the first round's base
 /// model; `candidates`, `selected` and `after` are the final round's (the
-/// first round's when no refit confirmed an effect). With `given` (checked
+/// first round's when no refit confirmed an effect, or a refit of force
+/// effects only gained too little, `refit::earns_its_place`). With `given` (checked
 /// by [`fixed::check`]) that model is the baseline of every round instead
 /// of the fitted one.
 pub fn analyse(

@@ -48,7 +48,7 @@ use nalgebra::Vector3;
 use omniad_core::effect::{Effect, EffectKind};
 use omniad_core::Coefficients;
 use serde::Serialize;
-use state::{accelerate, added_mass_effect, params, psd, steps, StateEffects, Steps};
+use state::{accelerate, added_mass_effect, psd, steps, StateEffects, Steps};
 use std::collections::BTreeMap;
 
 /// Most refits (rounds after the first).
@@ -244,7 +244,7 @@ fn summary(r: &Round) -> RefitRound {
             .effects
             .effects
             .iter()
-            .map(|e| (e.kind.name(), params(e).to_vec()))
+            .map(|e| (e.kind.name(), e.used_params().to_vec()))
             .collect(),
         selected: r.sel.selected.iter().map(|c| c.name().to_owned()).collect(),
         heldout_force_rms: [r.sel.baseline.force_rms, r.sel.after.force_rms],

@@ -161,12 +161,7 @@ fn truth_toml(
     }
     s.push_str("[parameters]\n");
     for e in effects {
-        let p: Vec<String> = e
-            .params
-            .iter()
-            .take(e.kind.param_count())
-            .map(|v| v.to_string())
-            .collect();
+        let p: Vec<String> = e.used_params().iter().map(|v| v.to_string()).collect();
         let _ = writeln!(s, "{} = [{}]", e.kind.name(), p.join(", "));
     }
     s.push_str("[force_fraction]\n");

@@ -76,6 +76,13 @@ impl<T: Real> Effect<T> {
         Self { kind, params }
     }
 
+    /// The parameters that count: the first `kind.param_count()`.
+    pub fn used_params(&self) -> &[T] {
+        self.params
+            .get(..self.kind.param_count())
+            .unwrap_or(&self.params)
+    }
+
     fn p(&self, j: usize) -> T {
         self.params.get(j).copied().unwrap_or_else(T::zero)
     }

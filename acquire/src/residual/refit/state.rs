@@ -28,11 +28,6 @@ pub(crate) struct StateEffects {
     pub effects: Vec<Effect<f64>>,
 }
 
-/// An effect's parameters that count (`kind.param_count()` of them).
-pub(crate) fn params(e: &Effect<f64>) -> &[f64] {
-    e.params.get(..e.kind.param_count()).unwrap_or(&e.params)
-}
-
 impl StateEffects {
     pub fn is_empty(&self) -> bool {
         self.wind.is_none() && self.effects.is_empty()
@@ -58,8 +53,13 @@ impl StateEffects {
         let same_kinds = self.effects.len() == o.effects.len() && self.kinds_within(o);
         let effects = self.effects.iter().all(|a| {
             o.effect(a.kind).is_some_and(|b| {
-                let d = norm_of(params(a).iter().zip(params(b)).map(|(x, y)| x - y));
-                d <= EFFECT_TOLERANCE * norm_of(params(b).iter().copied())
+                let d = norm_of(
+                    a.used_params()
+                        .iter()
+                        .zip(b.used_params())
+                        .map(|(x, y)| x - y),
+                );
+                d <= EFFECT_TOLERANCE * norm_of(b.used_params().iter().copied())
             })
         });
         wind && same_kinds && effects
@@ -111,7 +111,11 @@ pub(crate) fn steps(trial: &StateEffects, next: &StateEffects) -> Steps {
             .iter()
             .filter_map(|b| {
                 let a = trial.effect(b.kind)?;
-                let d = params(a).iter().zip(params(b)).map(|(x, y)| y - x);
+                let d = a
+                    .used_params()
+                    .iter()
+                    .zip(b.used_params())
+                    .map(|(x, y)| y - x);
                 Some((b.kind, d.collect()))
             })
             .collect(),
@@ -160,7 +164,12 @@ pub(crate) fn accelerate(
             continue;
         };
         let k = factor(d, previous.and_then(|p| p.effect(e.kind)));
-        let x: Vec<f64> = params(a).iter().zip(d).map(|(a, d)| a + d * k).collect();
+        let x: Vec<f64> = a
+            .used_params()
+            .iter()
+            .zip(d)
+            .map(|(a, d)| a + d * k)
+            .collect();
         let extrapolated = match e.kind {
             EffectKind::AddedMass => psd(&x).and_then(|m| added_mass_effect(&m)),
             kind => Effect::new(kind, &x),
