@@ -179,7 +179,7 @@ fn summarise(
     let roll_amplitude = (roll(f64::max, f64::NEG_INFINITY) - roll(f64::min, f64::INFINITY)) / 2.0;
     let mean_tension = trace.iter().map(|s| s.tension).sum::<f64>() / trace.len().max(1) as f64;
     let max_tension = trace.iter().map(|s| s.tension).fold(0.0, f64::max);
-    let settled = min_elevation > MIN_ELEVATION_DEG && max_spin < MAX_SPIN;
+    let settled = crate::flight_step::within_limits(min_elevation, max_spin);
     let (outcome, reason) = match crash_time {
         Some(t) => (Outcome::Crashes, format!("hit the ground at {t:.1} s")),
         None if settled => (

@@ -29,6 +29,14 @@ pub const MIN_ELEVATION_DEG: f64 = 15.0;
 /// 2-5 rad/s with ±50° roll) — not flight. (It was 10 rad/s, which
 /// counted such loops as flying.)
 pub const MAX_SPIN: f64 = 2.0;
+
+/// The flight's judgement of an aloft kite over the span it judges: the
+/// line stayed above [`MIN_ELEVATION_DEG`] and `|Ω|` below [`MAX_SPIN`]
+/// (`kite fly`'s outcome; the verdict's limit-cycle and strong-gust runs
+/// judge by the same rule).
+pub fn within_limits(min_elevation_deg: f64, max_spin: f64) -> bool {
+    min_elevation_deg > MIN_ELEVATION_DEG && max_spin < MAX_SPIN
+}
 /// Anchor (the flyer's hand), world frame, m.
 pub const ANCHOR: [f64; 3] = [0.0, 0.0, 1.5];
 

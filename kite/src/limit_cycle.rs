@@ -21,7 +21,9 @@
 //! The motion is judged over the last [`JUDGED_SECONDS`] of the run: the
 //! span the flight judges (the second half of `kite fly`'s default 60 s).
 
-use crate::flight_step::{Flight, FlightOptions, GROUND_CLEARANCE, MAX_SPIN, MIN_ELEVATION_DEG};
+use crate::flight_step::{
+    within_limits, Flight, FlightOptions, GROUND_CLEARANCE, MAX_SPIN, MIN_ELEVATION_DEG,
+};
 use serde::Serialize;
 
 /// The span over which the bounded motion is judged, s (the second half
@@ -84,8 +86,7 @@ impl Recorder {
     pub(crate) fn finish(&self, f: &Flight, seconds: f64) -> LimitCycle {
         let crashed = f.crashed() || f.time() + 1e-9 < self.from;
         let inside = !crashed
-            && self.elevation[0] > MIN_ELEVATION_DEG
-            && self.max_spin < MAX_SPIN
+            && within_limits(self.elevation[0], self.max_spin)
             && self.min_height > GROUND_CLEARANCE;
         LimitCycle {
             seconds,

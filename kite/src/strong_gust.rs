@@ -1,6 +1,5 @@
-//! The strong gust, quasi-statically: the kite's settled state in the
-//! steady wind of the strongest along-wind gust expected over a `kite fly`
-//! run, judged by the flight's limits.
+//! The strong gust: the kite flown through the strongest along-wind gust
+//! expected over a `kite fly` run, judged by the flight's limits.
 //!
 //! Why: the linear gust response ([`crate::gusts`]) is taken about the
 //! equilibrium in the mean wind, so it sizes the motion by the slope of
