@@ -27,7 +27,7 @@ use crate::linearise::{eigenvector, perturb, state_matrix, StateMatrix, Tangent}
 /// RK4 step of the settling flight, s: the stiffest motion is the line
 /// stretch at √(k/M) ≈ 50 rad/s, so ω dt = 0.25, well inside RK4's
 /// stability limit (2.8) and accurate enough to say where it comes to rest.
-const SETTLE_STEP: f64 = 5e-3;
+pub(crate) const SETTLE_STEP: f64 = 5e-3;
 /// Size of the nudge along the growing mode (largest tangent component:
 /// m or rad).
 const NUDGE: f64 = 0.02;

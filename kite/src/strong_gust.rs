@@ -47,8 +47,6 @@ use serde::Serialize;
 fn gust_seconds(mean: f64) -> f64 {
     2.0 * crate::wind::LENGTH_SCALE / mean.max(1.0)
 }
-/// RK4 step of the gust flight, s (as the settling flight's).
-const RAMP_STEP: f64 = 5e-3;
 
 /// The kite through one strong discrete gust.
 #[derive(Clone, Debug, Serialize)]
@@ -75,7 +73,7 @@ pub(crate) fn strong_gust(design: &Design, mean: f64, from: &State<f64>) -> Resu
         wind: Some(mean),
         ..FlightOptions::default()
     };
-    let mut flight = Flight::new(design.clone(), &steady)?.with_step(RAMP_STEP);
+    let mut flight = Flight::new(design.clone(), &steady)?.with_step(crate::settle::SETTLE_STEP);
     flight.release_at(*from);
     let mut rec = Recorder::from(0.0);
     let end = span + judged_seconds();
