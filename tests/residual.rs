@@ -84,6 +84,20 @@ fn residual_names_buoyancy_and_clean_air_gets_nothing() {
     assert_eq!(refit["rounds"][1]["selected"][0], "buoyancy", "{refit:#}");
     assert_eq!(refit["confirmed"], true, "{refit:#}");
     assert_item7_keys(&r);
+    // The share of a force beyond C_F's reach: a force linear in V is
+    // nearly |V|² times a function of direction over the speeds each
+    // direction is flown at (C_F takes most of it), gravity seen from the
+    // body is not; a one-parameter effect's share does not depend on its
+    // fitted value.
+    let beyond = |e: &str| {
+        let b = candidate(&r, e, 0)["beyond_cf"].as_f64();
+        b.unwrap_or_else(|| panic!("{e}: beyond_cf missing: {r:#}"))
+    };
+    let (drag, lift) = (beyond("linear_drag"), beyond("buoyancy"));
+    assert!(
+        (0.0..=1.0).contains(&drag) && (0.0..=1.0).contains(&lift) && drag < 0.5 * lift,
+        "beyond C_F: linear drag {drag}, buoyancy {lift}"
+    );
     assert!(plots.join("residual-vs-spin.svg").exists());
     let info = omniad(&["info", model.to_str().expect("utf-8")]);
     assert!(info.contains("buoyancy"), "{info}");
@@ -188,6 +202,8 @@ fn residual_with_given_coeffs() {
         .expect("markers-only noise");
     assert!(floor > 0.0 && floor.is_finite(), "noise floor {floor}");
     assert_eq!(r["selected"][0], "buoyancy", "{r:#}");
+    // A held model: nothing takes an effect's force over.
+    assert!(candidate(&r, "buoyancy", 0)["beyond_cf"].is_null(), "{r:#}");
     let vb = candidate(&r, "buoyancy", 0)["params"][0]
         .as_f64()
         .expect("V_b");

@@ -31,6 +31,7 @@
 
 use crate::fit::joint::Joint;
 use crate::fit::normals::solve;
+use crate::fit::smoothing::regularise;
 use nalgebra::{DMatrix, DVector};
 
 /// A design whose extra columns alone leave at most this fraction of the
@@ -63,6 +64,56 @@ pub(crate) fn unexplained_without_cf(joint: &Joint, cols: &[usize]) -> Option<f6
     let u = solve(&ata, &atb);
     let own = btb - 2.0 * u.dot(&atb) + u.dot(&(&ata * &u));
     (btb > 0.0).then(|| own.max(0.0) / btb)
+}
+
+/// The share of an effect's force that C_F cannot take over: the
+/// weighted square of the force `A_new θ` (columns `new`, fitted values
+/// `theta`) left after its best representation by the base unknowns (the
+/// SH force coefficients alpha, with the base fit's smoothing) and the
+/// columns `kept` of the effects chosen before it, over its own weighted
+/// square, all takes: `1 - g' (A_kk + S)^-1 g / θ' A_nn θ` with `g = A_kn θ`.
+///
+/// Why: the held-out gain of an effect is bounded by this share, not by
+/// its strength. A force the base model can represent (linear drag
+/// `-k μ L V` at the speeds a direction is flown at is nearly
+/// `½ ρ |V|² L² C_F(û)` times a constant, eq. 6) is absorbed by the base
+/// fit's C_F, which is then off by as much, while its held-out residual,
+/// the acceptance's "before", holds only the share outside C_F's span on
+/// top of the reconstruction's own noise. A small share says the effect
+/// is found by what it does to C_F rather than by the residual it
+/// removes. `None` with a held model (`--coeffs`: nothing absorbs), no
+/// columns, or a zero force.
+pub(crate) fn beyond_cf(
+    joint: &Joint,
+    kept: &[usize],
+    new: &[usize],
+    theta: &[f64],
+) -> Option<f64> {
+    if joint.base == 0 || new.is_empty() || new.len() != theta.len() {
+        return None;
+    }
+    let span: Vec<usize> = (0..joint.base)
+        .chain(kept.iter().map(|c| joint.base + c))
+        .collect();
+    let own: Vec<usize> = new.iter().map(|c| joint.base + c).collect();
+    let mut all = span.clone();
+    all.extend(&own);
+    let mut ata = DMatrix::zeros(all.len(), all.len());
+    for n in &joint.takes {
+        ata += n.ata.select_rows(&all).select_columns(&all);
+    }
+    let (ns, nn) = (span.len(), own.len());
+    let mut a_ss = ata.view((0, 0), (ns, ns)).into_owned();
+    regularise(&mut a_ss, 3, joint.degree, joint.smoothing);
+    // The joint solve's ridge on the kept effects' columns.
+    for i in joint.base..ns {
+        a_ss[(i, i)] *= 1.0 + 1e-6;
+    }
+    let theta = DVector::from_column_slice(theta);
+    let g = ata.view((0, ns), (ns, nn)) * &theta;
+    let energy = theta.dot(&(ata.view((ns, ns), (nn, nn)) * &theta));
+    let absorbed = g.dot(&solve(&a_ss, &g));
+    (energy > 0.0 && energy.is_finite()).then(|| ((energy - absorbed) / energy).clamp(0.0, 1.0))
 }
 
 #[cfg(test)]
@@ -112,5 +163,32 @@ mod tests {
         let unrelated = unexplained_without_cf(&j, &[1]).expect("fraction");
         assert!(unrelated > 0.5, "an unrelated column: {unrelated}");
         assert!(unexplained_without_cf(&j, &[]).is_none());
+    }
+
+    /// A column equal to the base's own rows (C_F can take all of it)
+    /// has no share beyond C_F; a column unrelated to the base keeps
+    /// nearly all of its force.
+    #[test]
+    fn a_force_the_base_can_represent_has_no_share_beyond_cf() {
+        let mut j = joint();
+        for f in &mut j.frames {
+            let s = f.base[(0, 0)];
+            let inside = Vector3::new(0.2, 0.1, -0.4) * s;
+            let unrelated = Vector3::new(
+                (0.91 * s * 37.0).sin(),
+                (1.7 * s * 11.0).cos(),
+                (0.3 * s * 53.0).sin(),
+            );
+            f.extra = DMatrix::from_fn(3, 2, |i, c| if c == 0 { inside[i] } else { unrelated[i] });
+        }
+        let j = Joint::new(j.frames, 0, j.smoothing);
+        let inside = beyond_cf(&j, &[], &[0], &[3.0]).expect("share");
+        assert!(inside < 1e-3, "a force C_F represents: {inside}");
+        let outside = beyond_cf(&j, &[], &[1], &[3.0]).expect("share");
+        assert!(outside > 0.5, "an unrelated force: {outside}");
+        let both = beyond_cf(&j, &[1], &[0], &[1.0]).expect("share");
+        assert!(both < 1e-3, "{both}");
+        assert!(beyond_cf(&j, &[], &[], &[]).is_none());
+        assert!(beyond_cf(&j, &[], &[0], &[0.0]).is_none());
     }
 }

@@ -82,6 +82,11 @@ pub struct CandidateReport {
     /// [`identify::COPY_FRACTION`]: not identifiable; absent with a given
     /// model).
     pub unexplained_without_cf: Option<f64>,
+    /// The share of its fitted force's weighted square that the base
+    /// model's C_F (with the effects kept before it) cannot take over
+    /// ([`identify::beyond_cf`]): what its held-out gain can come from;
+    /// absent with a given model.
+    pub beyond_cf: Option<f64>,
 }
 
 /// Trajectory RMS position error over the first 0.5 s, m.
@@ -215,6 +220,7 @@ pub fn analyse(
             uncertainty: t.uncertainty.clone(),
             rejected: t.rejected.clone(),
             unexplained_without_cf: t.unexplained_without_cf,
+            beyond_cf: t.beyond_cf,
         })
         .collect();
     let mut report = Report {

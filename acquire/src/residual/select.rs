@@ -26,7 +26,7 @@
 
 use crate::fit::joint::{held_out, Solution};
 use crate::residual::candidates::{plausible, Candidate, ALL};
-use crate::residual::identify::{unexplained_without_cf, COPY_FRACTION};
+use crate::residual::identify::{beyond_cf, unexplained_without_cf, COPY_FRACTION};
 use crate::residual::problems::Problems;
 use nalgebra::DVector;
 
@@ -114,6 +114,9 @@ pub struct Tried {
     /// C_F ([`super::identify::unexplained_without_cf`]; `None` with a
     /// held model).
     pub unexplained_without_cf: Option<f64>,
+    /// The share of its fitted force the base C_F (and the effects kept
+    /// before it) cannot take over ([`super::identify::beyond_cf`]).
+    pub beyond_cf: Option<f64>,
 }
 
 /// The extra columns of a design.
@@ -318,6 +321,8 @@ fn try_candidate(
     if let Some(r) = copy.filter(|r| rejected.is_none() && *r <= COPY_FRACTION) {
         rejected = Some(not_identifiable(design, r));
     }
+    let own: Vec<usize> = p.columns_of(c).collect();
+    let beyond = beyond_cf(&p.force, &design_columns(p, design), &own, &values);
     let eligible = rejected.is_none().then(|| s.clone());
     let tried = Tried {
         candidate: c,
@@ -332,6 +337,7 @@ fn try_candidate(
         uncertainty: se,
         rejected,
         unexplained_without_cf: copy,
+        beyond_cf: beyond,
     };
     Some((tried, eligible))
 }

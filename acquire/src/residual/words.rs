@@ -64,6 +64,12 @@ pub(crate) fn describe(r: &Report, params: &[(Candidate, Vec<f64>)]) -> Vec<Stri
                 explained(name) * 100.0,
                 fmt(v)
             ));
+            if let Some(share) = t.beyond_cf {
+                out.push(format!(
+                    "{:.0} % of {name}'s force (weighted square) lies outside what the base model's C_F can take over; the rest the base fit had absorbed into C_F, so the held-out gain measures only that share while C_F's error measures the whole.",
+                    share * 100.0
+                ));
+            }
         }
     }
     for t in r.candidates.iter().filter(|t| t.step == 0) {
