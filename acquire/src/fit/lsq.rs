@@ -19,13 +19,13 @@
 use crate::fit::config::LsqConfig;
 use crate::fit::context::FitContext;
 use crate::fit::model::{FitSmoothing, RawModel};
-use crate::fit::torque::fit_torque;
+use crate::fit::torque::{fit_torque, TorqueFrames};
 use crate::reconstruct::forces::Sample;
 
 /// The full least-squares fit.
 pub fn fit(samples: &[Sample], ctx: &FitContext, cfg: &LsqConfig) -> RawModel {
     let force = crate::fit::extensions::fit_force_and_extensions(samples, ctx, cfg);
-    let (beta, damping, torque) = fit_torque(samples, ctx, cfg);
+    let (beta, damping, torque) = fit_torque(samples, ctx, cfg, TorqueFrames::Stable);
     RawModel {
         alpha: force.alpha,
         beta,

@@ -7,6 +7,7 @@
 //! the torque samples differ.
 use super::{say, LabResult};
 use crate::fit::model::zero_model;
+use crate::fit::torque::TorqueFrames;
 use crate::input::recording::{RecordingSet, TakeKind};
 use crate::pipeline::{self, FitConfig};
 use crate::reconstruct::forces::Sample;
@@ -28,6 +29,8 @@ struct Pair {
     along: f64,
     /// Reconstructed minus true Ω, body frame, rad/s.
     omega_error: Vector3<f64>,
+    /// Angle between the reconstructed and the true attitude, rad.
+    attitude_error: f64,
 }
 
 /// A number of a frame pair that splits the frames in halves.
@@ -86,13 +89,24 @@ impl Study<'_> {
 pub fn run(dir: &Path, out: &mut dyn Write) -> LabResult {
     let w = super::fitted_with_truth(dir)?;
     let (set, fit, tframes) = (w.set, w.fit, w.truth_frames);
-    let pairs = paired(&set, &tframes, &fit.samples);
+    let states = crate::synth::truth::true_trajectories(dir, &set)?;
+    let mut pairs = paired(&set, &tframes, &fit.samples);
+    for p in &mut pairs {
+        let at = |s: &[crate::reconstruct::filter::Smoothed]| {
+            s.get(p.truth.take)
+                .and_then(|x| x.states.get(p.truth.index))
+                .map(|x| x.orientation)
+        };
+        if let (Some(r), Some(t)) = (at(&fit.reconstruction), at(&states)) {
+            p.attitude_error = r.angle_to(&t);
+        }
+    }
     let study = Study {
         pairs: &pairs,
         set: &set,
         cfg: w.cfg,
         truth: read_coefficients(&dir.join("truth/coefficients.csv"))?,
-        directions: torque_directions(&tframes),
+        directions: torque_directions(&tframes, TorqueFrames::Stable),
     };
     by_group(&study, out)?;
     by_part(&study, out)
@@ -112,13 +126,14 @@ fn paired(set: &RecordingSet, truth: &[Sample], rec: &[Sample]) -> Vec<Pair> {
                 error: r.torque - t.torque,
                 along: t.index as f64 / n as f64,
                 omega_error: r.angular_velocity - t.angular_velocity,
+                attitude_error: 0.0,
             })
         })
         .collect()
 }
 
 /// The error of each group of frames alone: take kind, place in the take,
-/// halves by |Ω|, |V|, |T*| and |e|.
+/// halves by |Ω|, Ω's error, the attitude's error, |V|, |T*| and |e|.
 fn by_group(study: &Study, out: &mut dyn Write) -> LabResult {
     study.report(out, "truth", &study.masked(&|_| false))?;
     study.report(out, "all errors", &study.masked(&|_| true))?;
@@ -140,8 +155,10 @@ fn by_group(study: &Study, out: &mut dyn Write) -> LabResult {
             &study.masked(&keep),
         )?;
     }
-    let halves: [(&str, &Measure); 4] = [
+    let halves: [(&str, &Measure); 6] = [
         ("|Ω|", &|p| p.truth.angular_velocity.norm()),
+        ("|ΔΩ| (Ω's error)", &|p| p.omega_error.norm()),
+        ("attitude error", &|p| p.attitude_error),
         ("|V|", &|p| p.truth.velocity.norm()),
         ("|T*|", &|p| p.truth.torque.norm()),
         ("|e|", &|p| p.error.norm()),
@@ -265,6 +282,7 @@ mod tests {
             error: z,
             along: 0.0,
             omega_error: z,
+            attitude_error: 0.0,
         }
     }
 
