@@ -161,7 +161,7 @@ pub(crate) mod tests {
     }
 
     /// The fit context of `model` at ρ = 1.2 and a degree-6 fit.
-    fn degree_six(model: &omniad_core::Coefficients<f64>) -> (FitContext, LsqConfig) {
+    pub(crate) fn degree_six(model: &omniad_core::Coefficients<f64>) -> (FitContext, LsqConfig) {
         let ctx = FitContext {
             air_density: 1.2,
             reference_length: model.reference_length(),

@@ -272,7 +272,7 @@ pub(crate) fn dense_rows(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::fit::lsq::tests::samples;
+    use crate::fit::lsq::tests::{degree_six, samples};
     use crate::input::recording::TakeKind;
     use crate::synth::{truth_model, ObjectSpec, SynthObject};
 
@@ -293,16 +293,11 @@ mod tests {
     #[test]
     fn the_final_torque_fit_takes_spin_up_frames_not_thrust_frames_and_keeps_the_force() {
         let truth = truth_model(&ObjectSpec::of(SynthObject::Box), 6).expect("model");
-        let ctx = FitContext {
-            air_density: 1.2,
-            reference_length: truth.reference_length(),
-            pole: truth.pole(),
-        };
+        let (ctx, cfg) = degree_six(&truth);
         let cfg = LsqConfig {
-            degree: 6,
             smoothing: 1e-7,
             cross_validate: false,
-            ..LsqConfig::default()
+            ..cfg
         };
         let mut frames = samples(&truth, 3000, TakeKind::Drop);
         for (i, s) in frames.iter_mut().enumerate() {
