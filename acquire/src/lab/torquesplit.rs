@@ -109,7 +109,56 @@ pub fn run(dir: &Path, out: &mut dyn Write) -> LabResult {
         directions: torque_directions(&tframes, TorqueFrames::Stable),
     };
     by_group(&study, out)?;
-    by_part(&study, out)
+    by_part(&study, out)?;
+    model_lean(&study, &fit.model, out)
+}
+
+/// How far the torque error leans on the fitted model: the regression of
+/// `e` on the model's own torque error at the true state,
+/// `d = T_model(V*, Ω*) - T*` (eqs. 6, 8), over the torque-fit frames,
+/// whole and fast parts (`e`, `d` minus their 15-frame means): slope
+/// `Σe·d / Σd·d` and the share of `Σ|e|²` it explains. A slope near 1
+/// means the smoother's `dΩ/dt` follows the model it was given rather
+/// than the markers.
+fn model_lean(
+    study: &Study,
+    model: &omniad_core::Coefficients<f64>,
+    out: &mut dyn Write,
+) -> LabResult {
+    let rho = study.set.world.air_density;
+    let errors: Vec<Vector3<f64>> = study.pairs.iter().map(|p| p.error).collect();
+    let model_errors: Vec<Vector3<f64>> = study
+        .pairs
+        .iter()
+        .map(|p| {
+            let t = &p.truth;
+            model.wrench(&t.velocity, &t.angular_velocity, rho).torque - t.torque
+        })
+        .collect();
+    let fast = |v: &[Vector3<f64>]| -> Vec<Vector3<f64>> {
+        let slow = moving_mean(study.pairs, v, 7);
+        v.iter().zip(&slow).map(|(a, b)| a - b).collect()
+    };
+    for (label, e, d) in [
+        ("whole", errors.clone(), model_errors.clone()),
+        ("fast parts", fast(&errors), fast(&model_errors)),
+    ] {
+        let (mut ed, mut dd, mut ee) = (0.0, 0.0, 0.0);
+        for ((e, d), p) in e.iter().zip(&d).zip(study.pairs) {
+            if p.truth.use_torque {
+                ed += e.dot(d);
+                dd += d.norm_squared();
+                ee += e.norm_squared();
+            }
+        }
+        say!(
+            out,
+            "e on the model's torque error ({label}): slope {:.3}, explains {:.1} % of |e|²",
+            ed / dd,
+            100.0 * ed * ed / (dd * ee)
+        );
+    }
+    Ok(())
 }
 
 /// Every true frame with a reconstructed twin.
