@@ -11,6 +11,7 @@ use crate::fit::context::FitContext;
 use crate::fit::extensions::ExtensionTest;
 use crate::fit::model::{with_raw, zero_model, FitSmoothing};
 use crate::fit::residuals::{frame_residuals, rms_dimensional, summary};
+use crate::fit::torque::{refit_final_torque, TorqueFrames};
 use crate::fit::weights::{add_velocity_spread, with_markers_only_covariances};
 use crate::input::recording::RecordingSet;
 use crate::reconstruct::filter::{FilterConfig, FilterStats, Smoothed};
@@ -129,6 +130,8 @@ pub struct FitOutcome {
     pub reconstruction: Vec<Smoothed>,
     /// The last iteration's frames.
     pub samples: Vec<Sample>,
+    /// Which of `samples` the model's torque part was fitted on.
+    pub torque_frames: TorqueFrames,
     /// Per take: the air-wrench scale of its noise (`reconstruct::first`),
     /// `None` for a take left out.
     pub take_scales: Vec<Option<f64>>,
@@ -273,16 +276,45 @@ pub fn fit(set: &RecordingSet, cfg: &FitConfig, progress: &dyn Progress) -> Resu
     let Some((mut model, reconstruction, samples)) = best else {
         return Err(Error::Data("no iteration produced a model".into()));
     };
+    let mut torque_frames = TorqueFrames::Stable;
+    if cfg.method == Method::Lsq {
+        model = final_torque(&model, &base, &samples, set, cfg)?;
+        torque_frames = TorqueFrames::NoThrust;
+    }
     fill_provenance(&mut model, set, cfg, &iterations, &samples)?;
     Ok(FitOutcome {
         model,
         iterations,
         reconstruction,
         samples,
+        torque_frames,
         take_scales: takes.scales,
         left_out: takes.left_out,
         takes: set.takes.iter().map(|t| t.name.clone()).collect(),
     })
+}
+
+/// `model` with its torque part refitted on the kept iteration's frames
+/// (net of the named effects) with every frame that passes the no-thrust
+/// test ([`refit_final_torque`]; the reconstruction is unchanged).
+fn final_torque(
+    model: &Coefficients<f64>,
+    base: &Coefficients<f64>,
+    samples: &[Sample],
+    set: &RecordingSet,
+    cfg: &FitConfig,
+) -> Result<Coefficients<f64>> {
+    let net = process_effects::net_of_effects(samples, base, set.world.air_density);
+    let lsq = LsqConfig {
+        degree: usize::from(cfg.degree),
+        ..cfg.lsq.clone()
+    };
+    let ctx = FitContext {
+        air_density: set.world.air_density,
+        reference_length: set.object.reference_length,
+        pole: set.object.pole,
+    };
+    refit_final_torque(model, &net, &ctx, &lsq)
 }
 
 /// What the first reconstruction decided about the takes

@@ -37,7 +37,7 @@ pub fn against_truth(set_dir: &Path, fit: &FitOutcome, md: &mut String) -> Resul
     let (ct, nt) = coefficient_error(
         &fit.model,
         &truth,
-        &torque_directions(&fit.samples),
+        &torque_directions(&fit.samples, fit.torque_frames),
         MIN_FRAMES,
         angle,
         Coefficient::Torque,

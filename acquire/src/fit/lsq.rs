@@ -19,13 +19,13 @@
 use crate::fit::config::LsqConfig;
 use crate::fit::context::FitContext;
 use crate::fit::model::{FitSmoothing, RawModel};
-use crate::fit::torque::fit_torque;
+use crate::fit::torque::{fit_torque, TorqueFrames};
 use crate::reconstruct::forces::Sample;
 
 /// The full least-squares fit.
 pub fn fit(samples: &[Sample], ctx: &FitContext, cfg: &LsqConfig) -> RawModel {
     let force = crate::fit::extensions::fit_force_and_extensions(samples, ctx, cfg);
-    let (beta, damping, torque) = fit_torque(samples, ctx, cfg);
+    let (beta, damping, torque) = fit_torque(samples, ctx, cfg, TorqueFrames::Stable);
     RawModel {
         alpha: force.alpha,
         beta,
@@ -161,7 +161,7 @@ pub(crate) mod tests {
     }
 
     /// The fit context of `model` at ρ = 1.2 and a degree-6 fit.
-    fn degree_six(model: &omniad_core::Coefficients<f64>) -> (FitContext, LsqConfig) {
+    pub(crate) fn degree_six(model: &omniad_core::Coefficients<f64>) -> (FitContext, LsqConfig) {
         let ctx = FitContext {
             air_density: 1.2,
             reference_length: model.reference_length(),

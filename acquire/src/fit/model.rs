@@ -71,20 +71,34 @@ pub fn zero_model(object: &Object, degree: u8) -> Result<Coefficients<f64>> {
 
 /// `raw` written into a copy of `base` (degree, pole, L, name, body).
 pub fn with_raw(base: &Coefficients<f64>, raw: &RawModel) -> Result<Coefficients<f64>> {
-    let mut m = base.clone();
+    let mut m = with_torque(base, &raw.beta, &raw.damping)?;
     for i in 0..3 {
         for (k, v) in raw.alpha[i].iter().enumerate().take(m.coeff_count()) {
             m.set_alpha(i, k, *v).map_err(model_error)?;
         }
-        for (k, v) in raw.beta[i].iter().enumerate().take(m.coeff_count()) {
-            m.set_beta(i, k, *v).map_err(model_error)?;
-        }
     }
-    m.set_damping(&crate::fit::damping::matrix(&raw.damping))
-        .map_err(model_error)?;
     m.set_spin_coupling(raw.spin_coupling)
         .map_err(model_error)?;
     m.set_gravity_coupling(raw.gravity_coupling)
+        .map_err(model_error)?;
+    Ok(m)
+}
+
+/// A copy of `base` with the torque part of eqs. (6), (8) replaced:
+/// `beta[i][k]` (basis component i, SH index k) and D as
+/// `[d11, d22, d33, d12, d13, d23]`.
+pub fn with_torque(
+    base: &Coefficients<f64>,
+    beta: &[Vec<f64>; 3],
+    damping: &[f64; 6],
+) -> Result<Coefficients<f64>> {
+    let mut m = base.clone();
+    for (i, block) in beta.iter().enumerate() {
+        for (k, v) in block.iter().enumerate().take(m.coeff_count()) {
+            m.set_beta(i, k, *v).map_err(model_error)?;
+        }
+    }
+    m.set_damping(&crate::fit::damping::matrix(damping))
         .map_err(model_error)?;
     Ok(m)
 }

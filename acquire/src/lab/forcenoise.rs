@@ -7,6 +7,7 @@
 
 use super::{say, LabResult};
 use crate::fit::model::zero_model;
+use crate::fit::torque::TorqueFrames;
 use crate::input::recording::RecordingSet;
 use crate::pipeline::{self, FitConfig};
 use crate::reconstruct::forces::ForceStats;
@@ -147,7 +148,7 @@ fn torque_report(
     );
     say!(out, "torque difference (N m, in place of N):");
     low_pass_report(&diffs, out)?;
-    let dirs = torque_directions(true_frames);
+    let dirs = torque_directions(true_frames, TorqueFrames::Stable);
     let mut rng = Rng::new(2);
     let sigma = rms / 3f64.sqrt();
     let noisy: Vec<_> = true_frames

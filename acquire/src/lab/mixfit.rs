@@ -7,6 +7,7 @@
 //! `omniad lab mixfit SET`.
 use super::{say, LabResult};
 use crate::fit::model::zero_model;
+use crate::fit::torque::TorqueFrames;
 use crate::pipeline;
 use crate::reconstruct::forces::{ForceStats, Sample};
 use crate::reconstruct::run::Silent;
@@ -25,7 +26,7 @@ pub fn run(dir: &Path, out: &mut dyn Write) -> LabResult {
     let truth = read_coefficients(&dir.join("truth/coefficients.csv"))?;
     let base = zero_model(&set.object, cfg.degree)?;
     let dirs = fitted_directions(&tframes);
-    let tdirs = torque_directions(&tframes);
+    let tdirs = torque_directions(&tframes, TorqueFrames::Stable);
     let report = |out: &mut dyn Write, label: &str, frames: &[Sample]| -> LabResult {
         let m = pipeline::fit_samples(&base, frames, &set, &cfg)?;
         let (e, n) = force_error(&m, &truth, &dirs, 20, 15f64.to_radians());

@@ -7,6 +7,7 @@
 //! the torque samples differ.
 use super::{say, LabResult};
 use crate::fit::model::zero_model;
+use crate::fit::torque::TorqueFrames;
 use crate::input::recording::{RecordingSet, TakeKind};
 use crate::pipeline::{self, FitConfig};
 use crate::reconstruct::forces::Sample;
@@ -28,6 +29,8 @@ struct Pair {
     along: f64,
     /// Reconstructed minus true Ω, body frame, rad/s.
     omega_error: Vector3<f64>,
+    /// Angle between the reconstructed and the true attitude, rad.
+    attitude_error: f64,
 }
 
 /// A number of a frame pair that splits the frames in halves.
@@ -86,16 +89,76 @@ impl Study<'_> {
 pub fn run(dir: &Path, out: &mut dyn Write) -> LabResult {
     let w = super::fitted_with_truth(dir)?;
     let (set, fit, tframes) = (w.set, w.fit, w.truth_frames);
-    let pairs = paired(&set, &tframes, &fit.samples);
+    let states = crate::synth::truth::true_trajectories(dir, &set)?;
+    let mut pairs = paired(&set, &tframes, &fit.samples);
+    for p in &mut pairs {
+        let at = |s: &[crate::reconstruct::filter::Smoothed]| {
+            s.get(p.truth.take)
+                .and_then(|x| x.states.get(p.truth.index))
+                .map(|x| x.orientation)
+        };
+        if let (Some(r), Some(t)) = (at(&fit.reconstruction), at(&states)) {
+            p.attitude_error = r.angle_to(&t);
+        }
+    }
     let study = Study {
         pairs: &pairs,
         set: &set,
         cfg: w.cfg,
         truth: read_coefficients(&dir.join("truth/coefficients.csv"))?,
-        directions: torque_directions(&tframes),
+        directions: torque_directions(&tframes, TorqueFrames::Stable),
     };
     by_group(&study, out)?;
-    by_part(&study, out)
+    by_part(&study, out)?;
+    model_lean(&study, &fit.model, out)
+}
+
+/// How far the torque error leans on the fitted model: the regression of
+/// `e` on the model's own torque error at the true state,
+/// `d = T_model(V*, Ω*) - T*` (eqs. 6, 8), over the torque-fit frames,
+/// whole and fast parts (`e`, `d` minus their 15-frame means): slope
+/// `Σe·d / Σd·d` and the share of `Σ|e|²` it explains. A slope near 1
+/// means the smoother's `dΩ/dt` follows the model it was given rather
+/// than the markers.
+fn model_lean(
+    study: &Study,
+    model: &omniad_core::Coefficients<f64>,
+    out: &mut dyn Write,
+) -> LabResult {
+    let rho = study.set.world.air_density;
+    let errors: Vec<Vector3<f64>> = study.pairs.iter().map(|p| p.error).collect();
+    let model_errors: Vec<Vector3<f64>> = study
+        .pairs
+        .iter()
+        .map(|p| {
+            let t = &p.truth;
+            model.wrench(&t.velocity, &t.angular_velocity, rho).torque - t.torque
+        })
+        .collect();
+    let fast = |v: &[Vector3<f64>]| -> Vec<Vector3<f64>> {
+        let slow = moving_mean(study.pairs, v, 7);
+        v.iter().zip(&slow).map(|(a, b)| a - b).collect()
+    };
+    for (label, e, d) in [
+        ("whole", errors.clone(), model_errors.clone()),
+        ("fast parts", fast(&errors), fast(&model_errors)),
+    ] {
+        let (mut ed, mut dd, mut ee) = (0.0, 0.0, 0.0);
+        for ((e, d), p) in e.iter().zip(&d).zip(study.pairs) {
+            if p.truth.use_torque {
+                ed += e.dot(d);
+                dd += d.norm_squared();
+                ee += e.norm_squared();
+            }
+        }
+        say!(
+            out,
+            "e on the model's torque error ({label}): slope {:.3}, explains {:.1} % of |e|²",
+            ed / dd,
+            100.0 * ed * ed / (dd * ee)
+        );
+    }
+    Ok(())
 }
 
 /// Every true frame with a reconstructed twin.
@@ -112,13 +175,14 @@ fn paired(set: &RecordingSet, truth: &[Sample], rec: &[Sample]) -> Vec<Pair> {
                 error: r.torque - t.torque,
                 along: t.index as f64 / n as f64,
                 omega_error: r.angular_velocity - t.angular_velocity,
+                attitude_error: 0.0,
             })
         })
         .collect()
 }
 
 /// The error of each group of frames alone: take kind, place in the take,
-/// halves by |Ω|, |V|, |T*| and |e|.
+/// halves by |Ω|, Ω's error, the attitude's error, |V|, |T*| and |e|.
 fn by_group(study: &Study, out: &mut dyn Write) -> LabResult {
     study.report(out, "truth", &study.masked(&|_| false))?;
     study.report(out, "all errors", &study.masked(&|_| true))?;
@@ -140,8 +204,10 @@ fn by_group(study: &Study, out: &mut dyn Write) -> LabResult {
             &study.masked(&keep),
         )?;
     }
-    let halves: [(&str, &Measure); 4] = [
+    let halves: [(&str, &Measure); 6] = [
         ("|Ω|", &|p| p.truth.angular_velocity.norm()),
+        ("|ΔΩ| (Ω's error)", &|p| p.omega_error.norm()),
+        ("attitude error", &|p| p.attitude_error),
         ("|V|", &|p| p.truth.velocity.norm()),
         ("|T*|", &|p| p.truth.torque.norm()),
         ("|e|", &|p| p.error.norm()),
@@ -265,6 +331,7 @@ mod tests {
             error: z,
             along: 0.0,
             omega_error: z,
+            attitude_error: 0.0,
         }
     }
 

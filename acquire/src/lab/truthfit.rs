@@ -6,6 +6,7 @@
 use super::Knobs;
 use super::{say, LabResult};
 use crate::fit::model::zero_model;
+use crate::fit::torque::TorqueFrames;
 use crate::input::recording::RecordingSet;
 use crate::input::state_csv::read_states;
 use crate::pipeline::{self, FitConfig};
@@ -48,7 +49,7 @@ pub fn run(
         "truth-state fit: C_F rel. L2 {:.2} % over {n} directions",
         err * 100.0
     );
-    let tdirs = torque_directions(&frames);
+    let tdirs = torque_directions(&frames, TorqueFrames::Stable);
     let (terr, tn) = torque_error(&model, &truth, &tdirs);
     say!(
         out,

@@ -40,7 +40,9 @@ pub struct Sample {
     pub force_cov: Matrix3<f64>,
     /// Passes `F·V <= 0` (no thrust): used by every fit.
     pub use_force: bool,
-    /// Passes `T·Ω <= 0` as well: used by the torque and damping fits.
+    /// Passes `T·Ω <= 0` as well: used by the refinement's torque and damping
+    /// fits (the final torque fit takes every `use_force` frame, see
+    /// `fit::torque::TorqueFrames`).
     pub use_torque: bool,
 }
 
@@ -67,7 +69,7 @@ pub struct ForceStats {
     pub frames: usize,
     /// Dropped entirely: `F*·V* > 0` (the air would add energy).
     pub dropped_thrust: usize,
-    /// Dropped from the torque/damping fit only: `T*·Ω* > 0`.
+    /// Dropped from the refinement's torque/damping fits only: `T*·Ω* > 0`.
     pub dropped_spin_up: usize,
     /// Dropped: a non-finite number in the reconstruction.
     pub non_finite: usize,

@@ -3,6 +3,7 @@
 
 use crate::error::Result;
 use crate::fit::coverage::count_within;
+use crate::fit::torque::TorqueFrames;
 use crate::input::state_csv::read_states;
 use crate::input::tracks::{csv_text, number, rows};
 use crate::reconstruct::filter::Smoothed;
@@ -118,12 +119,17 @@ pub fn fitted_directions(samples: &[crate::reconstruct::forces::Sample]) -> Vec<
         .collect()
 }
 
-/// The body-frame air directions of the frames that entered the torque
-/// fit (both stability tests passed), for [`torque_error`]'s coverage count.
-pub fn torque_directions(samples: &[crate::reconstruct::forces::Sample]) -> Vec<Vector3<f64>> {
+/// The body-frame air directions of the frames a torque fit of kind
+/// `which` takes (`Stable`: both stability tests passed; the pipeline's
+/// final fit: `FitOutcome::torque_frames`), for [`torque_error`]'s
+/// coverage count.
+pub fn torque_directions(
+    samples: &[crate::reconstruct::forces::Sample],
+    which: TorqueFrames,
+) -> Vec<Vector3<f64>> {
     samples
         .iter()
-        .filter(|s| s.use_torque && s.velocity.norm() > 0.0)
+        .filter(|s| which.takes(s) && s.velocity.norm() > 0.0)
         .map(|s| s.velocity.normalize())
         .collect()
 }
