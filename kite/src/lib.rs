@@ -42,6 +42,7 @@ pub mod sockets;
 pub mod spec;
 pub mod strong_gust;
 mod tether;
+mod toml_writer;
 pub mod trial_flights;
 pub mod trimming;
 pub mod verdict;
