@@ -37,6 +37,7 @@ pub mod mass;
 pub mod modes;
 pub mod optimise;
 pub mod rod_end;
+mod search_moves;
 mod settle;
 pub mod sockets;
 pub mod spec;

@@ -54,6 +54,7 @@ use crate::connect::{move_primitive, pieces};
 use crate::flight::{FlightOptions, Outcome};
 use crate::geometry::rotation_from_degrees;
 use crate::modes::ModesReport;
+use crate::search_moves::{self, Move};
 use crate::spec::{KiteSpec, StringSpec};
 use crate::trial_flights::{fly_on, pick, refine, Flown, CHECK_SEEDS, REPORT_SEEDS};
 use crate::wind::SplitMix64;
@@ -65,9 +66,13 @@ use serde::Serialize;
 /// pitch 20°, offset 0.3 m (about a kite's size: further and the bridle
 /// would leave the kite), the kite's heading 45° (with the quarter-turn
 /// starts of [`quarter_turns`] every heading is within reach); per
-/// primitive yaw 45°, roll 30°, 0.25 m across the wind and 0.25 m along
-/// the kite (design x).
-const REACH: [f64; 7] = [20.0, 0.3, 45.0, 45.0, 30.0, 0.25, 0.25];
+/// primitive yaw 45°, roll 30°, 0.25 m across the wind, and along the
+/// kite (design x) the kite's own length ([`search_moves::length`]; the
+/// last entry here is not used).
+const REACH: [f64; 7] = [20.0, 0.3, 45.0, 45.0, 30.0, 0.25, f64::NAN];
+
+/// Index of the shift along the kite in [`REACH`] and [`STEP`].
+const ALONG: usize = 6;
 
 /// First steps, same order as [`REACH`].
 const STEP: [f64; 7] = [4.0, 0.03, 10.0, 10.0, 10.0, 0.05, 0.05];
@@ -270,7 +275,12 @@ fn apply(base: &KiteSpec, x: &[f64]) -> KiteSpec {
         offset: Some(x[1]),
         length: base.string.length,
     };
-    for (i, p) in x.get(WHOLE..).unwrap_or(&[]).chunks(PER_PRIMITIVE).enumerate() {
+    for (i, p) in x
+        .get(WHOLE..)
+        .unwrap_or(&[])
+        .chunks(PER_PRIMITIVE)
+        .enumerate()
+    {
         if let [yaw, roll, dy, dx] = *p {
             if yaw != 0.0 || roll != 0.0 || dy != 0.0 || dx != 0.0 {
                 let turn = rotation_from_degrees(&[0.0, 0.0, yaw])
@@ -324,8 +334,23 @@ pub fn optimise(
         .into_iter()
         .chain(std::iter::repeat_n(0.0, n * PER_PRIMITIVE))
         .collect();
+    let length = search_moves::length(&base);
+    let reach = (0..x0.len())
+        .map(|k| match kind(k) {
+            ALONG => length,
+            q => REACH[q],
+        })
+        .collect();
+    let moves = search_moves::moves(
+        x0.len(),
+        &search_moves::mirror_pairs(&base),
+        WHOLE,
+        PER_PRIMITIVE,
+    );
     let mut search = Search {
         base: &base,
+        reach,
+        moves,
         assemble,
         // A frame in one piece stays in one piece (a file already in
         // several pieces may not come further apart).
@@ -376,6 +401,10 @@ struct Search<'a> {
     /// Where the search starts (the file's values, or a quarter turn of
     /// them): the reach is measured from here.
     x0: Vec<f64>,
+    /// How far each parameter may move from `x0`.
+    reach: Vec<f64>,
+    /// The compass search's moves ([`search_moves::moves`]).
+    moves: Vec<Move>,
     budget: usize,
     evaluations: usize,
     restarts: usize,
@@ -426,17 +455,24 @@ impl Search<'_> {
         (best_x, best)
     }
 
-    /// One compass sweep: the first neighbour of `x` at `step` that
-    /// scores better than `current`, within reach and budget.
+    /// One compass sweep: the first neighbour of `x` along a move at
+    /// `step` that scores better than `current`, within reach and budget.
     fn improve(&mut self, x: &[f64], current: &Score, step: &[f64]) -> Option<(Vec<f64>, Score)> {
-        for k in 0..x.len() {
+        for m in 0..self.moves.len() {
             for sign in [1.0, -1.0] {
                 if self.evaluations >= self.budget {
                     return None;
                 }
                 let mut trial = x.to_vec();
-                trial[k] += sign * step[k];
-                if (trial[k] - self.x0[k]).abs() > REACH[kind(k)] {
+                let Some(&(first, _)) = self.moves[m].first() else {
+                    continue;
+                };
+                for &(k, unit) in &self.moves[m] {
+                    trial[k] += sign * unit * step[first];
+                }
+                if (trial.iter().zip(&self.x0).zip(&self.reach))
+                    .any(|((t, o), r)| (t - o).abs() > *r)
+                {
                     continue;
                 }
                 match self.evaluate(&trial) {
@@ -457,7 +493,7 @@ impl Search<'_> {
             .zip(&self.x0)
             .enumerate()
             .map(|(k, (b, o))| {
-                let r = REACH[kind(k)];
+                let r = self.reach[k];
                 (b + (2.0 * rng.uniform() - 1.0) * 2.0 * STEP[kind(k)]).clamp(o - r, o + r)
             })
             .collect();
@@ -519,8 +555,8 @@ fn flight_checked(
     let Some((cx, cs)) = stable.into_iter().nth(p.index) else {
         return (x, best, None, p.candidates_flown);
     };
-    let x0 = search.x0.clone();
-    let inside = |k: usize, v: f64| (v - x0[k]).abs() <= REACH[kind(k)];
+    let (x0, reach) = (search.x0.clone(), search.reach.clone());
+    let inside = |k: usize, v: f64| (v - x0[k]).abs() <= reach[k];
     let steps = (0..cx.len()).map(|k| STEP[kind(k)]).collect();
     let mut trial = |t: &[f64]| {
         let s = search.evaluate(t)?;
@@ -564,7 +600,12 @@ fn changes(base: &KiteSpec, offset: f64, x: &[f64]) -> Vec<Change> {
     push("orientation.pitch".into(), base.orientation[1], x[0]);
     push("string.offset".into(), offset, x[1]);
     push("orientation.yaw".into(), base.orientation[2], x[2]);
-    for (i, p) in x.get(WHOLE..).unwrap_or(&[]).chunks(PER_PRIMITIVE).enumerate() {
+    for (i, p) in x
+        .get(WHOLE..)
+        .unwrap_or(&[])
+        .chunks(PER_PRIMITIVE)
+        .enumerate()
+    {
         if let [yaw, roll, dy, dx] = *p {
             let name = base.primitives.get(i).map_or("", |q| q.name.as_str());
             push(format!("primitive[{i}] ({name}) yaw turn, deg"), 0.0, yaw);
