@@ -292,6 +292,17 @@ fn optimise(
     (dir, out_file, v)
 }
 
+/// `kite check` accepts the optimiser's file `out_file`; removes `dir`.
+fn checks_and_cleans(dir: &Path, out_file: &Path) {
+    let out = omniad()
+        .args(["kite", "check", "--json"])
+        .arg(out_file)
+        .output()
+        .expect("run");
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let _ = std::fs::remove_dir_all(dir);
+}
+
 /// Issue 17: `kite optimise` reports before/after and each change, and
 /// writes a kite file that loads; the search never ends worse than the
 /// file.
@@ -313,13 +324,7 @@ fn optimise_writes_a_loadable_kite_and_reports_changes() {
     assert!(v["candidates_flown"].as_u64() <= Some(2), "{v}");
     assert_eq!(v["check_flights"].as_array().map(Vec::len), Some(3), "{v}");
     assert!(v["flight_margin"].as_f64() > Some(0.0), "{v}");
-    let out = omniad()
-        .args(["kite", "check", "--json"])
-        .arg(&out_file)
-        .output()
-        .expect("run");
-    assert!(out.status.success(), "{}", text(&out.stderr));
-    let _ = std::fs::remove_dir_all(&dir);
+    checks_and_cleans(&dir, &out_file);
 }
 
 /// Issue 17: a design flown on the wrong face (`box-classic-closed`: the
@@ -343,13 +348,7 @@ fn optimise_turns_a_kite_to_the_face_that_meets_the_wind() {
     // The file written has inline rod ends and loads back.
     let written = std::fs::read_to_string(&out_file).expect("written");
     assert!(!written.contains("[rod."), "{written}");
-    let out = omniad()
-        .args(["kite", "check", "--json"])
-        .arg(&out_file)
-        .output()
-        .expect("run");
-    assert!(out.status.success(), "{}", text(&out.stderr));
-    let _ = std::fs::remove_dir_all(&dir);
+    checks_and_cleans(&dir, &out_file);
 }
 
 /// Issue 17 acceptance: `kite optimise` turns a design that crashes

@@ -275,21 +275,24 @@ fn apply(base: &KiteSpec, x: &[f64]) -> KiteSpec {
         offset: Some(x[1]),
         length: base.string.length,
     };
-    for (i, p) in x
-        .get(WHOLE..)
-        .unwrap_or(&[])
-        .chunks(PER_PRIMITIVE)
-        .enumerate()
-    {
-        if let [yaw, roll, dy, dx] = *p {
-            if yaw != 0.0 || roll != 0.0 || dy != 0.0 || dx != 0.0 {
-                let turn = rotation_from_degrees(&[0.0, 0.0, yaw])
-                    * rotation_from_degrees(&[roll, 0.0, 0.0]);
-                move_primitive(&mut s, i, &turn, &Vector3::new(dx, dy, 0.0));
-            }
+    for (i, [yaw, roll, dy, dx]) in per_primitive(x) {
+        if yaw != 0.0 || roll != 0.0 || dy != 0.0 || dx != 0.0 {
+            let turn =
+                rotation_from_degrees(&[0.0, 0.0, yaw]) * rotation_from_degrees(&[roll, 0.0, 0.0]);
+            move_primitive(&mut s, i, &turn, &Vector3::new(dx, dy, 0.0));
         }
     }
     s
+}
+
+/// Each primitive's index and parameters (yaw, roll, shift across,
+/// shift along) in `x`.
+fn per_primitive(x: &[f64]) -> impl Iterator<Item = (usize, [f64; PER_PRIMITIVE])> + '_ {
+    x.get(WHOLE..)
+        .unwrap_or(&[])
+        .chunks_exact(PER_PRIMITIVE)
+        .enumerate()
+        .filter_map(|(i, p)| Some((i, p.try_into().ok()?)))
 }
 
 /// The file's parameters with the kite turned by 0, 90, 180 and 270°
@@ -600,19 +603,12 @@ fn changes(base: &KiteSpec, offset: f64, x: &[f64]) -> Vec<Change> {
     push("orientation.pitch".into(), base.orientation[1], x[0]);
     push("string.offset".into(), offset, x[1]);
     push("orientation.yaw".into(), base.orientation[2], x[2]);
-    for (i, p) in x
-        .get(WHOLE..)
-        .unwrap_or(&[])
-        .chunks(PER_PRIMITIVE)
-        .enumerate()
-    {
-        if let [yaw, roll, dy, dx] = *p {
-            let name = base.primitives.get(i).map_or("", |q| q.name.as_str());
-            push(format!("primitive[{i}] ({name}) yaw turn, deg"), 0.0, yaw);
-            push(format!("primitive[{i}] ({name}) roll turn, deg"), 0.0, roll);
-            push(format!("primitive[{i}] ({name}) shift along y, m"), 0.0, dy);
-            push(format!("primitive[{i}] ({name}) shift along x, m"), 0.0, dx);
-        }
+    for (i, [yaw, roll, dy, dx]) in per_primitive(x) {
+        let name = base.primitives.get(i).map_or("", |q| q.name.as_str());
+        push(format!("primitive[{i}] ({name}) yaw turn, deg"), 0.0, yaw);
+        push(format!("primitive[{i}] ({name}) roll turn, deg"), 0.0, roll);
+        push(format!("primitive[{i}] ({name}) shift along y, m"), 0.0, dy);
+        push(format!("primitive[{i}] ({name}) shift along x, m"), 0.0, dx);
     }
     out
 }
