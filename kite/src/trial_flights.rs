@@ -138,7 +138,8 @@ pub fn pick<T>(
 }
 
 /// The flight phase's compass search: from `x` (flown as `start`),
-/// each parameter `k` moved by `±step[k]` (kept when `inside`), each trial
+/// each parameter `k` in `order` moved by `±step[k]` (kept when `inside`;
+/// the first that improves is taken, so `order` is the path), each trial
 /// flown by `trial` (`None`: not a candidate, e.g. not `stable`; not
 /// counted), a move kept when its worst flight margin is larger, the
 /// steps halved when none is, until `budget` trials have been flown. The
@@ -147,6 +148,7 @@ pub fn refine(
     x: Vec<f64>,
     start: Flown,
     mut step: Vec<f64>,
+    order: &[usize],
     inside: &dyn Fn(usize, f64) -> bool,
     trial: &mut dyn FnMut(&[f64]) -> Option<Flown>,
     budget: usize,
@@ -156,10 +158,13 @@ pub fn refine(
     // apart.
     while halvings < REFINE_HALVINGS {
         let mut moved = false;
-        for k in 0..x.len() {
+        for &k in order {
             for sign in [1.0, -1.0] {
                 if spent >= budget {
                     return (x, best, spent);
+                }
+                if k >= x.len() {
+                    continue;
                 }
                 let mut t = x.clone();
                 t[k] += sign * step[k];
@@ -246,6 +251,7 @@ mod tests {
             start.clone(),
             flown(&start),
             vec![0.4, 0.4],
+            &[0, 1],
             &inside,
             &mut trial,
             40,
@@ -258,6 +264,7 @@ mod tests {
             start.clone(),
             flown(&start),
             vec![0.4; 2],
+            &[1, 0],
             &inside,
             &mut trial,
             0,
