@@ -71,9 +71,6 @@ use serde::Serialize;
 /// last entry here is not used).
 const REACH: [f64; 7] = [20.0, 0.3, 45.0, 45.0, 30.0, 0.25, f64::NAN];
 
-/// Index of the heading in [`REACH`] and [`STEP`].
-const HEADING: usize = 2;
-
 /// Index of the shift along the kite in [`REACH`] and [`STEP`].
 const ALONG: usize = 6;
 
@@ -288,23 +285,6 @@ fn apply(base: &KiteSpec, x: &[f64]) -> KiteSpec {
     s
 }
 
-/// The order in which the compass searches (and the flight check's
-/// refinement flies) the `n` parameters: the trim (pitch, offset) and
-/// each primitive's turns and shift across the wind first, the kite's
-/// heading and the shifts along the kite last. Both searches take the
-/// first move that improves, so the order is their path: the larger,
-/// structural moves are tried only when no trim or turn improves.
-/// Measured: with the heading and the along-shifts in the file order
-/// (tried early), box-classic-low-bridle's search ended at a `stable`
-/// design that crashes on every check seed (it flew with the search
-/// before them; BENCHMARKS, issue 17).
-fn move_order(n: usize) -> Vec<usize> {
-    let late = |k: &usize| matches!(kind(*k), HEADING | ALONG);
-    let (mut first, last): (Vec<usize>, Vec<usize>) = (0..n).partition(|k| !late(k));
-    first.extend(last);
-    first
-}
-
 /// Each primitive's index and parameters (yaw, roll, shift across,
 /// shift along) in `x`.
 fn per_primitive(x: &[f64]) -> impl Iterator<Item = (usize, [f64; PER_PRIMITIVE])> + '_ {
@@ -364,17 +344,14 @@ pub fn optimise(
             q => REACH[q],
         })
         .collect();
-    let order = move_order(x0.len());
     let moves = search_moves::moves(
         x0.len(),
-        &order,
         &search_moves::mirror_pairs(&base),
         WHOLE,
         PER_PRIMITIVE,
     );
     let mut search = Search {
         base: &base,
-        order,
         reach,
         moves,
         assemble,
@@ -427,8 +404,6 @@ struct Search<'a> {
     /// Where the search starts (the file's values, or a quarter turn of
     /// them): the reach is measured from here.
     x0: Vec<f64>,
-    /// The one-parameter moves' order ([`move_order`]).
-    order: Vec<usize>,
     /// How far each parameter may move from `x0`.
     reach: Vec<f64>,
     /// The compass search's moves ([`search_moves::moves`]).
@@ -583,11 +558,7 @@ fn flight_checked(
     let Some((cx, cs)) = stable.into_iter().nth(p.index) else {
         return (x, best, None, p.candidates_flown);
     };
-    let (x0, reach, order) = (
-        search.x0.clone(),
-        search.reach.clone(),
-        search.order.clone(),
-    );
+    let (x0, reach) = (search.x0.clone(), search.reach.clone());
     let inside = |k: usize, v: f64| (v - x0[k]).abs() <= reach[k];
     let steps = (0..cx.len()).map(|k| STEP[kind(k)]).collect();
     let mut trial = |t: &[f64]| {
@@ -599,15 +570,7 @@ fn flight_checked(
             .map(|d| fly_on(&d, &CHECK_SEEDS))
     };
     let budget = flown_at_most.saturating_sub(p.candidates_flown);
-    let (rx, flown, spent) = refine(
-        cx.clone(),
-        p.flown,
-        steps,
-        &order,
-        &inside,
-        &mut trial,
-        budget,
-    );
+    let (rx, flown, spent) = refine(cx.clone(), p.flown, steps, &inside, &mut trial, budget);
     let score = if rx == cx {
         cs
     } else {

@@ -45,25 +45,13 @@ pub fn mirror_pairs(spec: &KiteSpec) -> Vec<(usize, usize)> {
     pairs
 }
 
-/// The compass search's moves over `n` parameters: each parameter alone
-/// in the order `order` (a permutation of `0..n`; the search takes the
-/// first move that improves, so the order decides its path), then for
-/// each mirror pair (primitive parameters from `first`, `per`
+/// The compass search's moves over `n` parameters: each parameter alone,
+/// then for each mirror pair (primitive parameters from `first`, `per`
 /// each, in the order yaw, roll, shift across, shift along) the mirrored
 /// joint moves: yaws and rolls opposite (a mirrored turn), shifts across
 /// opposite (spread), shifts along equal.
-pub fn moves(
-    n: usize,
-    order: &[usize],
-    pairs: &[(usize, usize)],
-    first: usize,
-    per: usize,
-) -> Vec<Move> {
-    let mut out: Vec<Move> = order
-        .iter()
-        .filter(|&&k| k < n)
-        .map(|&k| vec![(k, 1.0)])
-        .collect();
+pub fn moves(n: usize, pairs: &[(usize, usize)], first: usize, per: usize) -> Vec<Move> {
+    let mut out: Vec<Move> = (0..n).map(|k| vec![(k, 1.0)]).collect();
     const MIRROR: [f64; 4] = [-1.0, -1.0, -1.0, 1.0];
     for &(i, j) in pairs {
         for (q, sign) in MIRROR.iter().enumerate().take(per) {
@@ -126,10 +114,8 @@ rotation = [0.0, 15, -90]
     fn wings_are_a_pair_and_move_mirrored() {
         let mut spec = KiteSpec::parse(KITE).expect("parses");
         assert_eq!(mirror_pairs(&spec), vec![(1, 2)]);
-        let order: Vec<usize> = (0..15).rev().collect();
-        let m = moves(3 + 3 * 4, &order, &mirror_pairs(&spec), 3, 4);
+        let m = moves(3 + 3 * 4, &mirror_pairs(&spec), 3, 4);
         assert_eq!(m.len(), 15 + 4);
-        assert_eq!(m[0], vec![(14, 1.0)]);
         // yaw of l (3 + 4) with yaw of r (3 + 8) opposite; along equal.
         assert!(m.contains(&vec![(7, 1.0), (11, -1.0)]));
         assert!(m.contains(&vec![(10, 1.0), (14, 1.0)]));

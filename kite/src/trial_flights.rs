@@ -138,8 +138,7 @@ pub fn pick<T>(
 }
 
 /// The flight phase's compass search: from `x` (flown as `start`),
-/// each parameter `k` in `order` moved by `±step[k]` (kept when `inside`;
-/// the first that improves is taken, so `order` is the path), each trial
+/// each parameter `k` moved by `±step[k]` (kept when `inside`), each trial
 /// flown by `trial` (`None`: not a candidate, e.g. not `stable`; not
 /// counted), a move kept when its worst flight margin is larger, the
 /// steps halved when none is, until `budget` trials have been flown. The
@@ -148,7 +147,6 @@ pub fn refine(
     x: Vec<f64>,
     start: Flown,
     mut step: Vec<f64>,
-    order: &[usize],
     inside: &dyn Fn(usize, f64) -> bool,
     trial: &mut dyn FnMut(&[f64]) -> Option<Flown>,
     budget: usize,
@@ -158,13 +156,10 @@ pub fn refine(
     // apart.
     while halvings < REFINE_HALVINGS {
         let mut moved = false;
-        for &k in order {
+        for k in 0..x.len() {
             for sign in [1.0, -1.0] {
                 if spent >= budget {
                     return (x, best, spent);
-                }
-                if k >= x.len() {
-                    continue;
                 }
                 let mut t = x.clone();
                 t[k] += sign * step[k];
@@ -251,7 +246,6 @@ mod tests {
             start.clone(),
             flown(&start),
             vec![0.4, 0.4],
-            &[0, 1],
             &inside,
             &mut trial,
             40,
@@ -264,7 +258,6 @@ mod tests {
             start.clone(),
             flown(&start),
             vec![0.4; 2],
-            &[1, 0],
             &inside,
             &mut trial,
             0,
