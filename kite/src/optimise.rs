@@ -1,7 +1,9 @@
 //! `kite optimise`: searches the kite's free parameters — pitch, the
-//! string offset along the eq. (16) line (equivalently γ), and each
-//! primitive's orientation (yaw and roll about its own centre) and its
-//! place across the wind — for the largest stability margin, keeping the
+//! string offset along the eq. (16) line (equivalently γ), the kite's
+//! heading into the wind (from the best of four quarter turns: which face
+//! meets the wind), and each primitive's orientation (yaw and roll about
+//! its own centre) and its place across the wind and along the kite —
+//! for the largest stability margin, keeping the
 //! geometry buildable. Turning and spreading the cells is what the trim
 //! alone cannot do: a kite whose roll-yaw mode grows at every pitch and
 //! offset (a box kite) is damped by cells spread across the wind and
@@ -30,8 +32,9 @@
 //! `[[rod]]`s whose ends sit on a primitive's frame turn with it
 //! ([`crate::connect`]), and a trial whose frame falls apart is refused.
 //!
-//! Search: compass (pattern) search from the file's values, steps 4° of
-//! pitch, 3 cm of offset, 10° of yaw and roll, 5 cm across the wind,
+//! Search: compass (pattern) search from the file's values (turned to
+//! the best quarter-turn heading), steps 4° of pitch, 3 cm of offset,
+//! 10° of heading, yaw and roll, 5 cm across the wind and along the kite,
 //! halved when no neighbour improves; when the offset step falls below
 //! 2 mm it has converged to a local optimum, and it restarts (first
 //! steps again) from a seeded random point within two first steps of the
@@ -51,6 +54,7 @@ use crate::connect::{move_primitive, pieces};
 use crate::flight::{FlightOptions, Outcome};
 use crate::geometry::rotation_from_degrees;
 use crate::modes::ModesReport;
+use crate::search_moves::{self, Move};
 use crate::spec::{KiteSpec, StringSpec};
 use crate::trial_flights::{fly_on, pick, refine, Flown, CHECK_SEEDS, REPORT_SEEDS};
 use crate::wind::SplitMix64;
@@ -58,24 +62,34 @@ use anyhow::Result;
 use nalgebra::Vector3;
 use serde::Serialize;
 
-/// How far each kind of parameter may move from the file's value:
+/// How far each kind of parameter may move from the search's start:
 /// pitch 20°, offset 0.3 m (about a kite's size: further and the bridle
-/// would leave the kite); per primitive yaw 45°, roll 30°, 0.25 m across
-/// the wind.
-const REACH: [f64; 5] = [20.0, 0.3, 45.0, 30.0, 0.25];
+/// would leave the kite), the kite's heading 45° (with the quarter-turn
+/// starts of [`quarter_turns`] every heading is within reach); per
+/// primitive yaw 45°, roll 30°, 0.25 m across the wind, and along the
+/// kite (design x) the kite's own length ([`search_moves::length`]; the
+/// last entry here is not used).
+const REACH: [f64; 7] = [20.0, 0.3, 45.0, 45.0, 30.0, 0.25, f64::NAN];
+
+/// Index of the shift along the kite in [`REACH`] and [`STEP`].
+const ALONG: usize = 6;
 
 /// First steps, same order as [`REACH`].
-const STEP: [f64; 5] = [4.0, 0.03, 10.0, 10.0, 0.05];
+const STEP: [f64; 7] = [4.0, 0.03, 10.0, 10.0, 10.0, 0.05, 0.05];
 
-/// Parameters per primitive: yaw, roll, shift across the wind.
-const PER_PRIMITIVE: usize = 3;
+/// Parameters of the whole kite: pitch, string offset, heading.
+const WHOLE: usize = 3;
+
+/// Parameters per primitive: yaw, roll, shift across the wind, shift
+/// along the kite.
+const PER_PRIMITIVE: usize = 4;
 
 /// Which kind (index into [`REACH`]) parameter `k` is.
 fn kind(k: usize) -> usize {
-    if k < 2 {
+    if k < WHOLE {
         k
     } else {
-        2 + (k - 2) % PER_PRIMITIVE
+        WHOLE + (k - WHOLE) % PER_PRIMITIVE
     }
 }
 
@@ -248,27 +262,65 @@ fn settling(decay_rate: f64) -> f64 {
     1.0 - (-decay_rate * span).exp()
 }
 
-/// The parameters: pitch (deg), offset (m), and per primitive a yaw and
-/// a roll change (deg) and a shift along the design frame's y (across the
-/// wind, m), applied to the file's spec.
+/// The parameters: pitch (deg), offset (m), heading (the orientation's
+/// turn about the vertical, deg), and per primitive a yaw and a roll
+/// change (deg) and a shift along the design frame's y (across the wind)
+/// and x (along the kite), m, applied to the file's spec.
 fn apply(base: &KiteSpec, x: &[f64]) -> KiteSpec {
     let mut s = base.clone();
     s.orientation[1] = x[0];
+    s.orientation[2] = x[2];
     s.string = StringSpec {
         gamma: None,
         offset: Some(x[1]),
         length: base.string.length,
     };
-    for (i, p) in x.get(2..).unwrap_or(&[]).chunks(PER_PRIMITIVE).enumerate() {
-        if let [yaw, roll, dy] = *p {
-            if yaw != 0.0 || roll != 0.0 || dy != 0.0 {
-                let turn = rotation_from_degrees(&[0.0, 0.0, yaw])
-                    * rotation_from_degrees(&[roll, 0.0, 0.0]);
-                move_primitive(&mut s, i, &turn, &Vector3::new(0.0, dy, 0.0));
-            }
+    for (i, [yaw, roll, dy, dx]) in per_primitive(x) {
+        if yaw != 0.0 || roll != 0.0 || dy != 0.0 || dx != 0.0 {
+            let turn =
+                rotation_from_degrees(&[0.0, 0.0, yaw]) * rotation_from_degrees(&[roll, 0.0, 0.0]);
+            move_primitive(&mut s, i, &turn, &Vector3::new(dx, dy, 0.0));
         }
     }
     s
+}
+
+/// Each primitive's index and parameters (yaw, roll, shift across,
+/// shift along) in `x`.
+fn per_primitive(x: &[f64]) -> impl Iterator<Item = (usize, [f64; PER_PRIMITIVE])> + '_ {
+    x.get(WHOLE..)
+        .unwrap_or(&[])
+        .chunks_exact(PER_PRIMITIVE)
+        .enumerate()
+        .filter_map(|(i, p)| Some((i, p.try_into().ok()?)))
+}
+
+/// The file's parameters with the kite turned by 0, 90, 180 and 270°
+/// about the vertical: which face of the kite meets the wind is the
+/// builder's choice (where the bridle is tied), and a design flown on
+/// the wrong face (a box kite's closed side into the wind: the string
+/// pushes) has no neighbour within a compass step that is better — the
+/// objective is flat there. The search starts from the best of the four
+/// and then moves the heading by up to [`REACH`] (45°), so every heading
+/// is within reach.
+fn quarter_turns(x0: &[f64]) -> Vec<Vec<f64>> {
+    (0..4)
+        .map(|q| {
+            let mut x = x0.to_vec();
+            x[2] = wrap_degrees(x0[2] + 90.0 * f64::from(q));
+            x
+        })
+        .collect()
+}
+
+/// `a` in (-180°, 180°].
+fn wrap_degrees(a: f64) -> f64 {
+    let w = a.rem_euclid(360.0);
+    if w > 180.0 {
+        w - 360.0
+    } else {
+        w
+    }
 }
 
 /// Searches from `design` (its file spec, assembled again by `assemble`
@@ -281,17 +333,32 @@ pub fn optimise(
     let base = design.spec.clone();
     let offset = check(design, None)?.attachment_offset;
     let n = base.primitives.len();
-    let x0: Vec<f64> = [base.orientation[1], offset]
+    let x0: Vec<f64> = [base.orientation[1], offset, base.orientation[2]]
         .into_iter()
         .chain(std::iter::repeat_n(0.0, n * PER_PRIMITIVE))
         .collect();
+    let length = search_moves::length(&base);
+    let reach = (0..x0.len())
+        .map(|k| match kind(k) {
+            ALONG => length,
+            q => REACH[q],
+        })
+        .collect();
+    let moves = search_moves::moves(
+        x0.len(),
+        &search_moves::mirror_pairs(&base),
+        WHOLE,
+        PER_PRIMITIVE,
+    );
     let mut search = Search {
         base: &base,
+        reach,
+        moves,
         assemble,
         // A frame in one piece stays in one piece (a file already in
         // several pieces may not come further apart).
         allowed: pieces(&base).max(1),
-        x0: &x0,
+        x0: x0.clone(),
         budget: opts.max_evaluations,
         evaluations: 0,
         restarts: 0,
@@ -301,7 +368,14 @@ pub fn optimise(
     let before = search.evaluate(&x0).ok_or_else(|| {
         anyhow::anyhow!("the kite as given does not assemble or is not connected")
     })?;
-    let (x, best) = search.run(before.clone());
+    let mut start = before.clone();
+    for turned in quarter_turns(&x0).into_iter().skip(1) {
+        match search.evaluate(&turned) {
+            Some(s) if s.objective > start.objective + 1e-6 => (search.x0, start) = (turned, s),
+            _ => {}
+        }
+    }
+    let (x, best) = search.run(start);
     let (x, best, checked, candidates_flown) = flight_checked(&mut search, x, best, opts.flown);
     let (evaluations, restarts) = (search.evaluations, search.restarts);
     let spec = apply(&base, &x);
@@ -327,7 +401,13 @@ struct Search<'a> {
     base: &'a KiteSpec,
     assemble: &'a dyn Fn(KiteSpec) -> Result<Design>,
     allowed: usize,
-    x0: &'a [f64],
+    /// Where the search starts (the file's values, or a quarter turn of
+    /// them): the reach is measured from here.
+    x0: Vec<f64>,
+    /// How far each parameter may move from `x0`.
+    reach: Vec<f64>,
+    /// The compass search's moves ([`search_moves::moves`]).
+    moves: Vec<Move>,
     budget: usize,
     evaluations: usize,
     restarts: usize,
@@ -378,17 +458,24 @@ impl Search<'_> {
         (best_x, best)
     }
 
-    /// One compass sweep: the first neighbour of `x` at `step` that
-    /// scores better than `current`, within reach and budget.
+    /// One compass sweep: the first neighbour of `x` along a move at
+    /// `step` that scores better than `current`, within reach and budget.
     fn improve(&mut self, x: &[f64], current: &Score, step: &[f64]) -> Option<(Vec<f64>, Score)> {
-        for k in 0..x.len() {
+        for m in 0..self.moves.len() {
             for sign in [1.0, -1.0] {
                 if self.evaluations >= self.budget {
                     return None;
                 }
                 let mut trial = x.to_vec();
-                trial[k] += sign * step[k];
-                if (trial[k] - self.x0[k]).abs() > REACH[kind(k)] {
+                let Some(&(first, _)) = self.moves[m].first() else {
+                    continue;
+                };
+                for &(k, unit) in &self.moves[m] {
+                    trial[k] += sign * unit * step[first];
+                }
+                if (trial.iter().zip(&self.x0).zip(&self.reach))
+                    .any(|((t, o), r)| (t - o).abs() > *r)
+                {
                     continue;
                 }
                 match self.evaluate(&trial) {
@@ -406,10 +493,10 @@ impl Search<'_> {
     fn restart(&mut self, best: &[f64], rng: &mut SplitMix64) -> Option<(Vec<f64>, Score)> {
         let x: Vec<f64> = best
             .iter()
-            .zip(self.x0)
+            .zip(&self.x0)
             .enumerate()
             .map(|(k, (b, o))| {
-                let r = REACH[kind(k)];
+                let r = self.reach[k];
                 (b + (2.0 * rng.uniform() - 1.0) * 2.0 * STEP[kind(k)]).clamp(o - r, o + r)
             })
             .collect();
@@ -471,8 +558,8 @@ fn flight_checked(
     let Some((cx, cs)) = stable.into_iter().nth(p.index) else {
         return (x, best, None, p.candidates_flown);
     };
-    let x0 = search.x0.to_vec();
-    let inside = |k: usize, v: f64| (v - x0[k]).abs() <= REACH[kind(k)];
+    let (x0, reach) = (search.x0.clone(), search.reach.clone());
+    let inside = |k: usize, v: f64| (v - x0[k]).abs() <= reach[k];
     let steps = (0..cx.len()).map(|k| STEP[kind(k)]).collect();
     let mut trial = |t: &[f64]| {
         let s = search.evaluate(t)?;
@@ -515,13 +602,13 @@ fn changes(base: &KiteSpec, offset: f64, x: &[f64]) -> Vec<Change> {
     };
     push("orientation.pitch".into(), base.orientation[1], x[0]);
     push("string.offset".into(), offset, x[1]);
-    for (i, p) in x.get(2..).unwrap_or(&[]).chunks(PER_PRIMITIVE).enumerate() {
-        if let [yaw, roll, dy] = *p {
-            let name = base.primitives.get(i).map_or("", |q| q.name.as_str());
-            push(format!("primitive[{i}] ({name}) yaw turn, deg"), 0.0, yaw);
-            push(format!("primitive[{i}] ({name}) roll turn, deg"), 0.0, roll);
-            push(format!("primitive[{i}] ({name}) shift along y, m"), 0.0, dy);
-        }
+    push("orientation.yaw".into(), base.orientation[2], x[2]);
+    for (i, [yaw, roll, dy, dx]) in per_primitive(x) {
+        let name = base.primitives.get(i).map_or("", |q| q.name.as_str());
+        push(format!("primitive[{i}] ({name}) yaw turn, deg"), 0.0, yaw);
+        push(format!("primitive[{i}] ({name}) roll turn, deg"), 0.0, roll);
+        push(format!("primitive[{i}] ({name}) shift along y, m"), 0.0, dy);
+        push(format!("primitive[{i}] ({name}) shift along x, m"), 0.0, dx);
     }
     out
 }

@@ -217,10 +217,20 @@ impl KiteSpec {
         Self::parse(&text).with_context(|| format!("in kite file {}", path.display()))
     }
 
-    /// The spec as kite-file TOML text; [`KiteSpec::parse`] reads it back
-    /// to an equal spec.
+    /// The spec as kite-file TOML text, rod ends as inline tables
+    /// ([`crate::toml_writer`]); [`KiteSpec::parse`] reads it back to an
+    /// equal spec.
     pub fn to_toml(&self) -> Result<String> {
-        toml::to_string(self).context("cannot write the kite as TOML")
+        let head = Self {
+            rods: Vec::new(),
+            ..self.clone()
+        };
+        let mut text = toml::to_string(&head).context("cannot write the kite as TOML")?;
+        for (k, r) in self.rods.iter().enumerate() {
+            crate::toml_writer::write_rod(&mut text, &r.from, &r.to, r.diameter)
+                .with_context(|| format!("cannot write rod[{k}] as TOML"))?;
+        }
+        Ok(text)
     }
 
     /// Writes the spec to `path` atomically (temporary file + rename), so

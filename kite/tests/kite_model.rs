@@ -26,11 +26,55 @@ fn every_bundled_kite_round_trips_through_the_serialiser() {
         let spec = KiteSpec::load(&path).expect("bundled kite loads");
         let text = spec.to_toml().expect("serialises");
         assert_eq!(KiteSpec::parse(&text).expect("reads back"), spec, "{text}");
+        // Rod ends are inline tables, one `[[rod]]` per rod, as the
+        // bundled files write them (not `[rod.from]` sub-tables).
+        assert!(!text.contains("[rod."), "{text}");
+        assert_eq!(text.matches("[[rod]]").count(), spec.rods.len(), "{text}");
+        assert_eq!(text.matches("\nfrom = ").count(), spec.rods.len(), "{text}");
         let out = dir.join("k.toml");
         spec.save(&out).expect("saved");
         assert_eq!(KiteSpec::load(&out).expect("loads"), spec);
     }
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn edges_points_diameters_and_awkward_names_round_trip() {
+    let text = r#"
+name = "t \"q\" = 1"
+orientation = [0.0, 40.0, 0.0]
+
+[[primitive]]
+name = "a \"cell\""
+kind = "box"
+size = [0.3, 0.3, 0.3]
+rotation = [1e-17, -33.333333333333336, 179.99999999999997]
+
+[[primitive]]
+name = "b"
+kind = "plate"
+size = [0.3, 0.4, 0.0]
+position = [0.5, 0.0, 0.0]
+
+[[rod]]
+from = { primitive = "a \"cell\"", corner = "+x+y+z" }
+to = { primitive = "b", edge = "-x", at = 0.25 }
+diameter = 0.003
+
+[[rod]]
+from = [0.15, 0.15, 0.15]
+to = { primitive = "b", corner = "-x-y" }
+"#;
+    let spec = KiteSpec::parse(text).expect("parses");
+    let written = spec.to_toml().expect("writes");
+    assert!(!written.contains("[rod."), "{written}");
+    assert!(written.contains("from = [0.15, 0.15, 0.15]"), "{written}");
+    assert!(written.contains("diameter = 0.003"), "{written}");
+    assert_eq!(
+        KiteSpec::parse(&written).expect("reads back"),
+        spec,
+        "{written}"
+    );
 }
 
 #[test]
