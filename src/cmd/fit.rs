@@ -34,11 +34,13 @@ pub struct FitArgs {
     /// Fitting method.
     #[arg(long, value_enum, default_value_t = MethodArg::Lsq)]
     pub method: MethodArg,
-    /// Refinement iterations (filter + fit rounds, §6). Each further round
-    /// still improves a well-observed set's C_F (openbox-clean: 5.9 % at 3,
-    /// 5.4 % at 4, 5.3 % at 5; about 1.2 s per round, see BENCHMARKS.md);
-    /// a round that fits worse is rejected and stops the refinement.
-    #[arg(long, default_value_t = 3)]
+    /// Refinement iterations (filter + fit rounds, §6; after the first,
+    /// each take is reconstructed with the model fitted without it). More
+    /// rounds are not better: the refinement drifts towards its own model
+    /// (C_F on five of six sets measured is worse after 5-8 rounds than
+    /// after 4; about 1.2 s per round, see BENCHMARKS.md issue 20); a round
+    /// that fits worse is rejected and stops the refinement.
+    #[arg(long, default_value_t = omniad_acquire::pipeline::DEFAULT_ITERATIONS)]
     pub iterations: usize,
     /// Model extensions beyond eqs. (5)-(6): the spin coupling (a force
     /// bilinear in Ω and V: Magnus, added-mass coupling) and the gravity
