@@ -13,12 +13,13 @@
 //! every take.
 //!
 //! The fold fits reuse the full fit's chosen smoothness penalty (no
-//! cross-validation inside a fold) and its beta, D and extensions: only
-//! alpha is refitted, on the frames net of the kept extensions' force.
+//! cross-validation inside a fold), its frame weights and its beta, D and
+//! extensions: only alpha is refitted, on the frames net of the kept
+//! extensions' force, from the full normal equations minus the take's.
 
 use crate::fit::config::LsqConfig;
 use crate::fit::context::FitContext;
-use crate::fit::force::fit_force_smoothed;
+use crate::fit::force::fit_force_leaving_out_each_take;
 use crate::fit::model::FitSmoothing;
 use crate::reconstruct::forces::Sample;
 use omniad_core::Coefficients;
@@ -41,20 +42,17 @@ pub(super) fn per_take_models(
     let frames = net_of_extensions(fitted, frames, ctx.air_density);
     let cfg = LsqConfig {
         degree: usize::from(fitted.degree()),
-        smoothing: s.force.weight,
-        smoothness_order: Some(s.force.order),
-        cross_validate: false,
         ..lsq.clone()
     };
-    let ids: Vec<usize> = (0..takes).collect();
-    crate::parallel::map(&ids, |_, &j| {
-        let others: Vec<Sample> = frames.iter().filter(|f| f.take != j).cloned().collect();
-        if others.len() == frames.len() || !others.iter().any(|f| f.use_force) {
-            return fitted.clone();
-        }
-        let (alpha, _) = fit_force_smoothed(&others, ctx, &cfg);
-        with_alpha(fitted, &alpha)
-    })
+    let folds = fit_force_leaving_out_each_take(&frames, ctx, &cfg, s.force);
+    (0..takes)
+        .map(|j| match folds.iter().find(|(id, _)| *id == j) {
+            // A take whose frames are the only usable ones keeps the full
+            // model (nothing would be left to fit).
+            Some((_, alpha)) if folds.len() > 1 => with_alpha(fitted, alpha),
+            _ => fitted.clone(),
+        })
+        .collect()
 }
 
 /// `frames` with the force of `model`'s extensions (spin and gravity
