@@ -57,7 +57,7 @@ fn synth_fit_reconstruct_round_trip() {
     ]);
     let report: serde_json::Value = serde_json::from_str(&json).expect("JSON report");
     let its = report["iterations"].as_array().expect("iterations");
-    // The default count (4 since the cross-fitted refinement, issue 20).
+    // The default count (`pipeline::DEFAULT_ITERATIONS`).
     assert_eq!(its.len(), omniad_acquire::pipeline::DEFAULT_ITERATIONS);
     assert!(its.iter().all(|i| i["force_residual"]
         .as_f64()

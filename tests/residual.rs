@@ -281,16 +281,9 @@ fn added_mass_is_not_also_given_buoyancy() {
         !names.contains(&"buoyancy") && !names.contains(&"gravity_coupling"),
         "{names:?}"
     );
-    // Refused as not identifiable alongside added mass (`identify.rs`),
-    // or, since the cross-fitted refinement (issue 20), one rule earlier:
-    // its held-out torque is worse (0.9 % on seed 1), so the
-    // identifiability check is not reached. Either way it is refused.
     let refused = candidate(&r, "buoyancy", 1);
     let why = refused["rejected"].as_str().unwrap_or("");
-    assert!(
-        why.contains("not identifiable") || why.contains("held-out torque"),
-        "{refused:#}"
-    );
+    assert!(why.contains("not identifiable"), "{refused:#}");
     let cf = r["cf_error_vs_truth"]["after"].as_f64().expect("C_F error");
     assert!(cf < 0.10, "C_F {:.1} % off the truth after", cf * 100.0);
 }
