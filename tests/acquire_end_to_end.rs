@@ -57,7 +57,8 @@ fn synth_fit_reconstruct_round_trip() {
     ]);
     let report: serde_json::Value = serde_json::from_str(&json).expect("JSON report");
     let its = report["iterations"].as_array().expect("iterations");
-    assert_eq!(its.len(), 3);
+    // The default count (`pipeline::DEFAULT_ITERATIONS`).
+    assert_eq!(its.len(), omniad_acquire::pipeline::DEFAULT_ITERATIONS);
     assert!(its.iter().all(|i| i["force_residual"]
         .as_f64()
         .is_some_and(|r| r.is_finite() && r > 0.0)));
@@ -68,7 +69,10 @@ fn synth_fit_reconstruct_round_trip() {
 
     let bytes = std::fs::read(&model_path).expect("model file");
     let model = omniad_core::file::decode::<f64>(&bytes).expect("decodes");
-    assert_eq!(model.provenance.force_residuals.len(), 3);
+    assert_eq!(
+        model.provenance.force_residuals.len(),
+        omniad_acquire::pipeline::DEFAULT_ITERATIONS
+    );
     assert_eq!(model.provenance.coverage.len(), 512);
     let truth = read_coefficients(&set.join("truth/coefficients.csv")).expect("coefficients");
     let (err, n) = force_error(

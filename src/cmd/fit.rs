@@ -34,11 +34,12 @@ pub struct FitArgs {
     /// Fitting method.
     #[arg(long, value_enum, default_value_t = MethodArg::Lsq)]
     pub method: MethodArg,
-    /// Refinement iterations (filter + fit rounds, §6). Each further round
-    /// still improves a well-observed set's C_F (openbox-clean: 5.9 % at 3,
-    /// 5.4 % at 4, 5.3 % at 5; about 1.2 s per round, see BENCHMARKS.md);
-    /// a round that fits worse is rejected and stops the refinement.
-    #[arg(long, default_value_t = 3)]
+    /// Refinement iterations (filter + fit rounds, §6). More rounds are not
+    /// better: the refinement drifts towards its own model (C_F on five of
+    /// six sets measured is worse after 8 rounds than after 3; about 1.2 s
+    /// per round, see BENCHMARKS.md issue 20); a round that fits worse is
+    /// rejected and stops the refinement.
+    #[arg(long, default_value_t = omniad_acquire::pipeline::DEFAULT_ITERATIONS)]
     pub iterations: usize,
     /// Model extensions beyond eqs. (5)-(6): the spin coupling (a force
     /// bilinear in Ω and V: Magnus, added-mass coupling) and the gravity
@@ -48,6 +49,11 @@ pub struct FitArgs {
     /// paper's model only. `--method paper` never fits them.
     #[arg(long, value_enum, default_value_t = ExtensionsArg::Auto)]
     pub extensions: ExtensionsArg,
+    /// Reconstruct each take, after the first round, with the force model
+    /// fitted without its own frames (cross-fitting; with `--iterations 4`
+    /// it improved C_F and C_T on the sets measured, BENCHMARKS.md issue 20).
+    #[arg(long)]
+    pub cross_fit: bool,
     /// Print a JSON report on stdout.
     #[arg(long)]
     pub json: bool,
@@ -120,6 +126,7 @@ pub fn run(a: &FitArgs) -> Result<()> {
         degree: a.degree,
         method,
         iterations: a.iterations,
+        cross_fit: a.cross_fit,
         ..FitConfig::default()
     };
     cfg.lsq.extensions = a.extensions == ExtensionsArg::Auto;

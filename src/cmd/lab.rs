@@ -47,7 +47,7 @@ pub struct Common {
     #[arg(long, value_enum, default_value_t = MethodArg::Lsq)]
     pub method: MethodArg,
     /// Refinement iterations.
-    #[arg(long, default_value_t = 3)]
+    #[arg(long, default_value_t = omniad_acquire::pipeline::DEFAULT_ITERATIONS)]
     pub iterations: usize,
     /// SH degree.
     #[arg(long)]

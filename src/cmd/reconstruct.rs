@@ -20,7 +20,7 @@ pub struct ReconstructArgs {
     #[arg(long, default_value_t = 8)]
     pub degree: u8,
     /// Refinement iterations before the final reconstruction.
-    #[arg(long, default_value_t = 3)]
+    #[arg(long, default_value_t = omniad_acquire::pipeline::DEFAULT_ITERATIONS)]
     pub iterations: usize,
 }
 

@@ -137,6 +137,38 @@ fn force_penalty(takes: &[Normals], total: &Normals, cfg: &LsqConfig) -> Smoothi
     cross_validated(takes, held_out, total, &orders, fallback, cfg.degree)
 }
 
+/// Alpha fitted without each take's frames in turn, with the fixed
+/// `smoothing` (cross-fitting, `pipeline::cross_fit`): the normal
+/// equations are built once and each take's share subtracted. Per take
+/// with usable force frames, in order of first appearance: (take index,
+/// alpha).
+pub(crate) fn fit_force_leaving_out_each_take(
+    samples: &[Sample],
+    ctx: &FitContext,
+    cfg: &LsqConfig,
+    smoothing: Smoothing,
+) -> Vec<(usize, [Vec<f64>; 3])> {
+    let frames = force_frames(samples);
+    let weights = force_weights(&frames);
+    let (takes, total) = normals_with(&frames, &weights, ctx, cfg.degree);
+    let mut ids: Vec<usize> = Vec::new();
+    for f in &frames {
+        if !ids.contains(&f.take) {
+            ids.push(f.take);
+        }
+    }
+    let folds: Vec<(usize, &Normals)> = ids.into_iter().zip(&takes).collect();
+    let n = coeff_count(cfg.degree);
+    crate::parallel::map(&folds, |_, &(id, take)| {
+        let mut ata = &total.ata - &take.ata;
+        let atb = &total.atb - &take.atb;
+        regularise(&mut ata, 3, cfg.degree, smoothing);
+        let x = enforce_no_thrust(ata, atb, cfg);
+        let alpha = std::array::from_fn(|i| x.get(i * n..(i + 1) * n).unwrap_or(&[]).to_vec());
+        (id, alpha)
+    })
+}
+
 /// Fits alpha (force), enforcing no thrust (the tests' entry).
 #[cfg(test)]
 pub(crate) fn fit_force(samples: &[Sample], ctx: &FitContext, cfg: &LsqConfig) -> [Vec<f64>; 3] {

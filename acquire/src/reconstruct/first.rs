@@ -21,7 +21,7 @@ use crate::input::recording::RecordingSet;
 use crate::reconstruct::filter::{FilterConfig, Smoothed};
 use crate::reconstruct::forces::{self, ForceStats};
 use crate::reconstruct::noise::{scales, ProcessNoise};
-use crate::reconstruct::run::{refine_takes, Progress, Silent};
+use crate::reconstruct::run::{refine_takes, Progress, Silent, TakeModels};
 use omniad_core::Coefficients;
 use serde::Serialize;
 
@@ -138,7 +138,8 @@ pub fn first(
     progress: &dyn Progress,
 ) -> Result<First> {
     let start = vec![Some(1.0); set.takes.len()];
-    let (mut smoothed, mut scales, troubles) = track(set, model, noise, cfg, &start, progress)?;
+    let models = TakeModels::shared(model);
+    let (mut smoothed, mut scales, troubles) = track(set, &models, noise, cfg, &start, progress)?;
     let mut left_out = Vec::new();
     for (i, t) in troubles.into_iter().enumerate() {
         if let (Some(why), Some(take)) = (t.implausible, set.takes.get(i)) {
@@ -169,13 +170,13 @@ pub fn first(
 /// `scales` is updated.
 pub fn again(
     set: &RecordingSet,
-    model: &Coefficients<f64>,
+    models: &TakeModels<'_>,
     noise: ProcessNoise,
     cfg: &FilterConfig,
     scales: &mut Vec<Option<f64>>,
     progress: &dyn Progress,
 ) -> Result<Vec<Smoothed>> {
-    let (smoothed, new, _) = track(set, model, noise, cfg, scales, progress)?;
+    let (smoothed, new, _) = track(set, models, noise, cfg, scales, progress)?;
     *scales = new;
     Ok(smoothed)
 }
@@ -187,14 +188,14 @@ type Tracked = (Vec<Smoothed>, Vec<Option<f64>>, Vec<Trouble>);
 /// lowers its [`Trouble`].
 fn track(
     set: &RecordingSet,
-    model: &Coefficients<f64>,
+    models: &TakeModels<'_>,
     noise: ProcessNoise,
     cfg: &FilterConfig,
     start: &[Option<f64>],
     progress: &dyn Progress,
 ) -> Result<Tracked> {
     let mut scales = start.to_vec();
-    let mut smoothed = refine_takes(set, model, noise, cfg, &[], &scales, progress)?;
+    let mut smoothed = refine_takes(set, models, noise, cfg, &[], &scales, progress)?;
     let empty = Smoothed::default();
     let mut troubles: Vec<Trouble> = (0..set.takes.len())
         .map(|i| match scales.get(i) {
@@ -211,7 +212,7 @@ fn track(
         if retry.iter().all(Option::is_none) {
             break;
         }
-        let again = refine_takes(set, model, noise, cfg, &[], &retry, &Silent)?;
+        let again = refine_takes(set, models, noise, cfg, &[], &retry, &Silent)?;
         for (i, s) in again.into_iter().enumerate() {
             let Some(k) = retry.get(i).copied().flatten() else {
                 continue;

@@ -148,7 +148,41 @@ pub fn refine(
     previous: &[Smoothed],
     progress: &dyn Progress,
 ) -> Result<Vec<Smoothed>> {
-    refine_takes(set, model, noise, cfg, previous, &[], progress)
+    refine_takes(
+        set,
+        &TakeModels::shared(model),
+        noise,
+        cfg,
+        previous,
+        &[],
+        progress,
+    )
+}
+
+/// The model each take is reconstructed with: its own where given (the
+/// refinement's cross-fitted models, `pipeline::cross_fit`), else the
+/// shared one.
+#[derive(Clone, Copy)]
+pub struct TakeModels<'a> {
+    /// The model of every take without its own.
+    pub shared: &'a Coefficients<f64>,
+    /// Per take (in the set's order); may be empty or shorter.
+    pub own: &'a [Coefficients<f64>],
+}
+
+impl<'a> TakeModels<'a> {
+    /// `model` for every take.
+    pub fn shared(model: &'a Coefficients<f64>) -> Self {
+        Self {
+            shared: model,
+            own: &[],
+        }
+    }
+
+    /// Take `i`'s model.
+    pub fn of(&self, i: usize) -> &'a Coefficients<f64> {
+        self.own.get(i).unwrap_or(self.shared)
+    }
 }
 
 /// Per take: the factor on its unexplained wrench's noise and prior (see
@@ -160,7 +194,7 @@ pub type TakeScales = [Option<f64>];
 /// [`refine`] with a scale per take ([`TakeScales`]).
 pub fn refine_takes(
     set: &RecordingSet,
-    model: &Coefficients<f64>,
+    models: &TakeModels<'_>,
     noise: ProcessNoise,
     cfg: &FilterConfig,
     previous: &[Smoothed],
@@ -172,7 +206,7 @@ pub fn refine_takes(
             progress.tick();
             return Ok(Smoothed::default());
         };
-        let filter = scaled_filter(set, model, noise, cfg, scale)?;
+        let filter = scaled_filter(set, models.of(i), noise, cfg, scale)?;
         let initial = take_start(take)?;
         let smoothed = match previous.get(i).filter(|p| !p.states.is_empty()) {
             Some(p) => filter.refine(&take.epochs, initial, p),
