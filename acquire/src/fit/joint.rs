@@ -179,11 +179,7 @@ impl Joint {
             x.rows_mut(b, u.len()).copy_from(&u);
             return Solution { x };
         }
-        // A ridge that only keeps the extra columns regular: 1e-6 of each
-        // column's own diagonal entry.
-        for i in self.base..idx.len() {
-            ata[(i, i)] *= 1.0 + 1e-6;
-        }
+        ridge_extra_columns(&mut ata, self.base..idx.len());
         Solution {
             x: solve(&ata, &n.atb),
         }
@@ -224,6 +220,18 @@ impl Joint {
                 (k, f.target - Vector3::new(p[0], p[1], p[2]))
             })
             .collect()
+    }
+}
+
+/// The ridge that only keeps the extra (effect) columns regular: 1e-6
+/// of each column's own diagonal entry, on the rows and columns `cols`
+/// of `ata`. The joint solve and the residual's identifiability measures
+/// (`residual::identify`) share it, so they judge the same problem.
+pub(crate) fn ridge_extra_columns(ata: &mut DMatrix<f64>, cols: std::ops::Range<usize>) {
+    for i in cols {
+        if let Some(d) = ata.get_mut((i, i)) {
+            *d *= 1.0 + 1e-6;
+        }
     }
 }
 

@@ -29,7 +29,7 @@
 //! 0.023 or more (the wind, the base model's own derivative, 0.04-0.12;
 //! rotational lift on the `magnus=1.2` plate, 15 weights, 0.23).
 
-use crate::fit::joint::Joint;
+use crate::fit::joint::{ridge_extra_columns, Joint};
 use crate::fit::normals::solve;
 use crate::fit::smoothing::regularise;
 use nalgebra::{DMatrix, DVector};
@@ -56,11 +56,7 @@ pub(crate) fn unexplained_without_cf(joint: &Joint, cols: &[usize]) -> Option<f6
         atb += n.atb.select_rows(&idx);
         btb += n.btb;
     }
-    // The same relative ridge as the joint solve keeps the columns
-    // regular.
-    for i in 0..idx.len() {
-        ata[(i, i)] *= 1.0 + 1e-6;
-    }
+    ridge_extra_columns(&mut ata, 0..idx.len());
     let u = solve(&ata, &atb);
     let own = btb - 2.0 * u.dot(&atb) + u.dot(&(&ata * &u));
     (btb > 0.0).then(|| own.max(0.0) / btb)
@@ -105,10 +101,7 @@ pub(crate) fn beyond_cf(
     let (ns, nn) = (span.len(), own.len());
     let mut a_ss = ata.view((0, 0), (ns, ns)).into_owned();
     regularise(&mut a_ss, 3, joint.degree, joint.smoothing);
-    // The joint solve's ridge on the kept effects' columns.
-    for i in joint.base..ns {
-        a_ss[(i, i)] *= 1.0 + 1e-6;
-    }
+    ridge_extra_columns(&mut a_ss, joint.base..ns);
     let theta = DVector::from_column_slice(theta);
     let g = ata.view((0, ns), (ns, nn)) * &theta;
     let energy = theta.dot(&(ata.view((ns, ns), (nn, nn)) * &theta));
