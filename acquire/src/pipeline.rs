@@ -81,6 +81,16 @@ pub struct FitConfig {
 /// was better than 3 and 5 on the sets measured.
 pub const DEFAULT_ITERATIONS: usize = 3;
 
+impl FitConfig {
+    /// The least-squares settings at the fit's SH degree.
+    fn lsq_at_degree(&self) -> LsqConfig {
+        LsqConfig {
+            degree: usize::from(self.degree),
+            ..self.lsq.clone()
+        }
+    }
+}
+
 impl Default for FitConfig {
     fn default() -> Self {
         Self {
@@ -186,33 +196,16 @@ pub fn fit_samples_tested(
     set: &RecordingSet,
     cfg: &FitConfig,
 ) -> Result<(Coefficients<f64>, FitDetails)> {
-    let ctx = fit_context(set);
-    let degree = usize::from(cfg.degree);
+    let ctx = FitContext::of_set(set);
     let raw = match cfg.method {
-        Method::Lsq => crate::fit::lsq::fit(
-            samples,
-            &ctx,
-            &LsqConfig {
-                degree,
-                ..cfg.lsq.clone()
-            },
-        ),
-        Method::Paper => crate::fit::paper::fit(samples, &ctx, degree),
+        Method::Lsq => crate::fit::lsq::fit(samples, &ctx, &cfg.lsq_at_degree()),
+        Method::Paper => crate::fit::paper::fit(samples, &ctx, usize::from(cfg.degree)),
     };
     let details = FitDetails {
         extension_test: raw.extension_test,
         smoothing: raw.smoothing,
     };
     Ok((with_raw(base, &raw)?, details))
-}
-
-/// What the fits of `set` need to know of it.
-fn fit_context(set: &RecordingSet) -> FitContext {
-    FitContext {
-        air_density: set.world.air_density,
-        reference_length: set.object.reference_length,
-        pole: set.object.pole,
-    }
 }
 
 /// The whole pipeline: `cfg.iterations` rounds of reconstruct-and-fit.
@@ -294,7 +287,7 @@ pub fn fit(set: &RecordingSet, cfg: &FitConfig, progress: &dyn Progress) -> Resu
                         &fitted,
                         &net,
                         set.takes.len(),
-                        &fit_context(set),
+                        &FitContext::of_set(set),
                         &cfg.lsq,
                         report.smoothing,
                     );
@@ -342,16 +335,7 @@ fn final_torque(
     cfg: &FitConfig,
 ) -> Result<Coefficients<f64>> {
     let net = process_effects::net_of_effects(samples, base, set.world.air_density);
-    let lsq = LsqConfig {
-        degree: usize::from(cfg.degree),
-        ..cfg.lsq.clone()
-    };
-    let ctx = FitContext {
-        air_density: set.world.air_density,
-        reference_length: set.object.reference_length,
-        pole: set.object.pole,
-    };
-    refit_final_torque(model, &net, &ctx, &lsq)
+    refit_final_torque(model, &net, &FitContext::of_set(set), &cfg.lsq_at_degree())
 }
 
 /// What the first reconstruction decided about the takes

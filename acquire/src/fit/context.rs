@@ -1,6 +1,7 @@
 //! What every fit needs: the object's constants and the SH values and
 //! vector basis (§4.2) at a direction.
 
+use crate::input::recording::RecordingSet;
 use nalgebra::Vector3;
 use omniad_core::basis::vector_basis;
 use omniad_core::sh::{evaluate, MAX_COEFFS};
@@ -14,6 +15,17 @@ pub struct FitContext {
     pub reference_length: f64,
     /// Unit pole Z.
     pub pole: Vector3<f64>,
+}
+
+impl FitContext {
+    /// The constants of the object and air recorded in `set`.
+    pub fn of_set(set: &RecordingSet) -> Self {
+        Self {
+            air_density: set.world.air_density,
+            reference_length: set.object.reference_length,
+            pole: set.object.pole,
+        }
+    }
 }
 
 /// SH values `Y_lm(E)` and the basis at a unit direction.

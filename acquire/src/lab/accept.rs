@@ -98,11 +98,7 @@ pub fn run(dir: &Path, knobs: &Knobs, out: &mut dyn Write) -> LabResult {
     if let Some(path) = &knobs.dump {
         omniad_io::write_atomic(path, directions_csv(&fit.model, &truth, &dirs).as_bytes())?;
     }
-    let ctx = crate::fit::context::FitContext {
-        air_density: set.world.air_density,
-        reference_length: set.object.reference_length,
-        pole: set.object.pole,
-    };
+    let ctx = crate::fit::context::FitContext::of_set(&set);
     say!(
         out,
         "last fit's smoothing {:?}",

@@ -101,11 +101,7 @@ pub(crate) fn round(
         }
     };
     let (rho, l) = (set.world.air_density, set.object.reference_length);
-    let ctx = FitContext {
-        air_density: rho,
-        reference_length: l,
-        pole: set.object.pole,
-    };
+    let ctx = FitContext::of_set(set);
     let cols = ColumnContext {
         air_density: rho,
         reference_length: l,
