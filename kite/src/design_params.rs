@@ -13,7 +13,7 @@ use nalgebra::Vector3;
 /// would leave the kite), the kite's heading 45° (with the quarter-turn
 /// starts of [`quarter_turns`] every heading is within reach); per
 /// primitive yaw 45°, roll 30°, 0.25 m across the wind, and along the
-/// kite (design x) the kite's own length ([`search_moves::length`]; the
+/// kite (design x) the kite's own length ([`crate::search_moves::length`]; the
 /// last entry here is not used).
 pub(crate) const REACH: [f64; 7] = [20.0, 0.3, 45.0, 45.0, 30.0, 0.25, f64::NAN];
 

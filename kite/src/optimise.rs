@@ -17,8 +17,8 @@
 //! fly`'s gusts stays from the flight's limits on line elevation, spin and
 //! height, as a fraction (1: unmoved; 0: at a limit) — or, when smaller,
 //! the fraction of a disturbance the slowest mode removes over the 30 s
-//! the flight judges ([`settling`]), or, when smaller still, the least
-//! damping ratio of the oscillatory modes over [`ZETA_REF`] (a lightly
+//! the flight judges (`objective.rs`), or, when smaller still, the least
+//! damping ratio of the oscillatory modes over `ZETA_REF` (a lightly
 //! damped flutter is set off far past its linear response by the gusts);
 //! `stable` designs rank above `gust_sensitive` ones, and
 //! those above designs with a growing mode, which climb `-σ_max` (a slower
@@ -32,21 +32,27 @@
 //! `[[rod]]`s whose ends sit on a primitive's frame turn with it
 //! ([`crate::connect`]), and a trial whose frame falls apart is refused.
 //!
-//! Search: compass (pattern) search from the file's values (turned to
-//! the best quarter-turn heading), steps 4° of pitch, 3 cm of offset,
-//! 10° of heading, yaw and roll, 5 cm across the wind and along the kite,
-//! halved when no neighbour improves; when the offset step falls below
-//! 2 mm it has converged to a local optimum, and it restarts (first
-//! steps again) from a seeded random point within two first steps of the
-//! best design so far, until the budget of evaluations (each one `kite
-//! check`) is spent. Then the nonlinear check ([`crate::trial_flights`]):
-//! the best few distinct stable designs are flown (60 s, 1 m/s gusts) on
-//! the optimiser's own seeds 101-103, and from the one with the widest
-//! flight margin a compass search climbs that margin itself (flying each
-//! `stable` trial) until its budget of flown designs is spent: the result
-//! is the design that flies on all three by the widest margin, so the
-//! claim is checked, not assumed. The result is then flown on seeds 1-3
-//! for the report only.
+//! Search: three compass (pattern) searches ([`crate::multi_start`],
+//! their plans in [`crate::search_moves::plans`]) from the file's values
+//! turned to the best quarter-turn heading, each with its own move order
+//! (and the third from the best point of a coarse scan of the mirror-pair
+//! moves), sharing the one budget of evaluations (each one `kite check`)
+//! in equal shares; steps 4° of pitch, 3 cm of offset, 10° of heading,
+//! yaw and roll, 5 cm across the wind and along the kite, halved when no
+//! neighbour improves; converged after four halvings (offset step below
+//! 2 mm), a search restarts from a seeded random point within two first
+//! steps of its best. One path decided the result before, and each move
+//! order turned a different subset of the crashing designs into flyers
+//! (BENCHMARKS, issue 17). Then the nonlinear check on the union of their
+//! results ([`crate::union_check`], [`crate::trial_flights`]): the best
+//! few distinct stable designs, each search's best first, are flown (60
+//! s, 1 m/s gusts) on the optimiser's own seeds 101-103, and from the one
+//! with the widest flight margin a compass search climbs that margin
+//! itself (flying each `stable` trial) until its budget of flown designs
+//! is spent: the result is the design that flies on all three by the
+//! widest margin, so the claim is checked, not assumed; the report names
+//! the search it came from. The result is then flown on seeds 1-3 for the
+//! report only.
 
 use crate::assemble::Design;
 use crate::check::check;
@@ -248,7 +254,7 @@ const HALVINGS: usize = 4;
 /// first steps per parameter.
 const RESTART_RADIUS: f64 = 2.0;
 
-/// What one search of [`plans`] reached (the report's `searches`).
+/// What one search of `search_moves::plans` reached (the report's `searches`).
 #[derive(Clone, Debug, Serialize)]
 pub struct SearchSummary {
     /// Its move order and start.
@@ -319,6 +325,22 @@ pub fn render(r: &OptimiseReport) -> String {
     if r.changes.is_empty() {
         out += "  no change improves the margin\n";
     }
+    for q in &r.searches {
+        let best = q
+            .best
+            .as_ref()
+            .map_or_else(|| "nothing assembled".into(), s);
+        out += &format!(
+            "  search \"{}\": {} designs, {} restarts, best {}\n",
+            q.name, q.evaluations, q.restarts, best
+        );
+    }
+    let refined = if r.refined_by_flights {
+        ", moved by the flight-margin search"
+    } else {
+        ""
+    };
+    out += &format!("  result from search \"{}\"{refined}\n", r.search);
     let names = |f: &[Outcome]| f.iter().map(|o| o.name()).collect::<Vec<_>>().join(", ");
     out += &format!(
         "  check flights (60 s, 1 m/s gusts, seeds 101-103; {} candidates flown): {} (margin {:+.2})\n",
