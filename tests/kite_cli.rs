@@ -329,7 +329,10 @@ fn optimise_writes_a_loadable_kite_and_reports_changes() {
     // came from.
     let searches = v["searches"].as_array().cloned().unwrap_or_default();
     assert!(searches.len() >= 2, "{v}");
-    let spent: u64 = searches.iter().filter_map(|s| s["evaluations"].as_u64()).sum();
+    let spent: u64 = searches
+        .iter()
+        .filter_map(|s| s["evaluations"].as_u64())
+        .sum();
     assert!(spent <= 12, "{v}");
     assert!(
         searches.iter().any(|s| s["name"] == v["search"])
