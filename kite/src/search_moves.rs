@@ -12,12 +12,12 @@
 //! there, BENCHMARKS, issue 17). The single moves stay, so asymmetric
 //! designs (Fig. 15) are searched as before.
 
+use crate::design_params::{kind, ALONG, HEADING, PER_PRIMITIVE, WHOLE};
 use crate::geometry::corners;
+pub use crate::multi_start::Move;
+use crate::multi_start::Plan;
+use crate::objective::{Score, Search, STARTS};
 use crate::spec::KiteSpec;
-
-/// One search direction: `(parameter, unit)` pairs, moved by the step of
-/// the first parameter's kind.
-pub type Move = Vec<(usize, f64)>;
 
 /// How close two primitives must be to each other's mirror image across
 /// the design's x-z plane to count as a pair, m (or m of size).
@@ -45,20 +45,51 @@ pub fn mirror_pairs(spec: &KiteSpec) -> Vec<(usize, usize)> {
     pairs
 }
 
-/// The compass search's moves over `n` parameters: each parameter alone,
-/// then for each mirror pair (primitive parameters from `first`, `per`
-/// each, in the order yaw, roll, shift across, shift along) the mirrored
-/// joint moves: yaws and rolls opposite (a mirrored turn), shifts across
-/// opposite (spread), shifts along equal.
-pub fn moves(n: usize, pairs: &[(usize, usize)], first: usize, per: usize) -> Vec<Move> {
-    let mut out: Vec<Move> = (0..n).map(|k| vec![(k, 1.0)]).collect();
+/// Each parameter alone, in the order `order` (the search takes the first
+/// move that improves, so the order is its path).
+pub fn singles(order: impl IntoIterator<Item = usize>) -> Vec<Move> {
+    order.into_iter().map(|k| vec![(k, 1.0)]).collect()
+}
+
+/// For each mirror pair (primitive parameters from `first`, `per` each,
+/// in the order yaw, roll, shift across, shift along; `n` parameters in
+/// all) the mirrored joint moves: yaws and rolls opposite (a mirrored
+/// turn), shifts across opposite (spread), shifts along equal.
+pub fn pair_moves(n: usize, pairs: &[(usize, usize)], first: usize, per: usize) -> Vec<Move> {
     const MIRROR: [f64; 4] = [-1.0, -1.0, -1.0, 1.0];
+    let mut out = Vec::new();
     for &(i, j) in pairs {
         for (q, sign) in MIRROR.iter().enumerate().take(per) {
             let (a, b) = (first + i * per + q, first + j * per + q);
             if a < n && b < n {
                 out.push(vec![(a, 1.0), (b, *sign)]);
             }
+        }
+    }
+    out
+}
+
+/// A coarse scan of the pair moves from `x`: each pair move at a half
+/// and a whole of its lead parameter's `reach` either way (both wings
+/// moved aft behind the cell, both spread, both turned). Why: such a
+/// change is several compass steps long and the objective need not rise
+/// along the way (winged-box's wings 0.4 m aft fly, 0.3 m aft the kite
+/// still diverges: BENCHMARKS, issue 17), so one of the searches starts
+/// from the best point of this scan.
+pub fn pair_scan(x: &[f64], pair_moves: &[Move], reach: &[f64]) -> Vec<Vec<f64>> {
+    let mut out = Vec::new();
+    for m in pair_moves {
+        let Some(r) = m.first().and_then(|&(lead, _)| reach.get(lead)) else {
+            continue;
+        };
+        for a in [-1.0, -0.5, 0.5, 1.0] {
+            let mut t = x.to_vec();
+            for &(k, unit) in m {
+                if let Some(v) = t.get_mut(k) {
+                    *v += a * unit * r;
+                }
+            }
+            out.push(t);
         }
     }
     out
@@ -82,6 +113,77 @@ pub fn length(spec: &KiteSpec) -> f64 {
     } else {
         0.0
     }
+}
+
+/// The searches ([`crate::multi_start`]) from `x` (the best quarter turn, scored
+/// `score`), each with its own move order and start, so that no one path
+/// decides the result (BENCHMARKS, issue 17: each order turned a
+/// different subset of the crashing designs into flyers):
+/// 1. every parameter in the file's order (pitch, offset, heading, then
+///    each primitive's yaw, roll, shift across and along), then the mirror
+///    pairs;
+/// 2. the trim and the turns first, the heading and the shifts along the
+///    kite last (the larger, structural moves only when no trim or turn
+///    improves), then the mirror pairs;
+/// 3. with mirror pairs: the pair moves first, from the best point of a
+///    coarse scan of them ([`pair_scan`], evaluated here,
+///    at most a tenth of the `budget`); without: the primitives' moves
+///    first, last primitive first, the kite's trim last.
+pub(crate) fn plans(
+    search: &mut Search,
+    x: &[f64],
+    score: &Score,
+    reach: &[f64],
+    bounds: &[(f64, f64)],
+    budget: usize,
+) -> Vec<Plan> {
+    let n = x.len();
+    let pairs = pair_moves(n, &mirror_pairs(search.base), WHOLE, PER_PRIMITIVE);
+    let with_pairs = |mut singles: Vec<Move>| {
+        singles.extend(pairs.iter().cloned());
+        singles
+    };
+    let late = |k: &usize| matches!(kind(*k), HEADING | ALONG);
+    let (early, structural): (Vec<usize>, Vec<usize>) = (0..n).partition(|k| !late(k));
+    let mut plans = vec![
+        Plan {
+            name: "file order, then mirror pairs".into(),
+            start: x.to_vec(),
+            moves: with_pairs(singles(0..n)),
+        },
+        Plan {
+            name: "trim and turns first, heading and shifts along last, then mirror pairs".into(),
+            start: x.to_vec(),
+            moves: with_pairs(singles(early.into_iter().chain(structural))),
+        },
+    ];
+    let reversed = singles((WHOLE..n).rev().chain(0..WHOLE));
+    if pairs.is_empty() {
+        plans.push(Plan {
+            name: "primitives first (last first), trim last".into(),
+            start: x.to_vec(),
+            moves: reversed,
+        });
+        return plans;
+    }
+    let (mut best_x, mut best) = (x.to_vec(), score.objective);
+    let inside = |t: &[f64]| t.iter().zip(bounds).all(|(v, (lo, hi))| v >= lo && v <= hi);
+    let scan = pair_scan(x, &pairs, reach);
+    for t in scan.into_iter().filter(|t| inside(t)).take(budget / 10) {
+        if let Some(s) = search.evaluate(STARTS, &t) {
+            if s.objective > best + 1e-6 {
+                (best_x, best) = (t, s.objective);
+            }
+        }
+    }
+    let mut moves = pairs.clone();
+    moves.extend(reversed);
+    plans.push(Plan {
+        name: "mirror pairs first, from the best of a coarse pair scan".into(),
+        start: best_x,
+        moves,
+    });
+    plans
 }
 
 #[cfg(test)]
@@ -114,8 +216,15 @@ rotation = [0.0, 15, -90]
     fn wings_are_a_pair_and_move_mirrored() {
         let mut spec = KiteSpec::parse(KITE).expect("parses");
         assert_eq!(mirror_pairs(&spec), vec![(1, 2)]);
-        let m = moves(3 + 3 * 4, &mirror_pairs(&spec), 3, 4);
-        assert_eq!(m.len(), 15 + 4);
+        let m = pair_moves(3 + 3 * 4, &mirror_pairs(&spec), 3, 4);
+        assert_eq!(m.len(), 4);
+        // The scan moves each pair move a half and a whole reach either
+        // way: both wings aft by the whole reach moves both along-shifts.
+        let reach = vec![1.0; 15];
+        let scan = pair_scan(&[0.0; 15], &m, &reach);
+        assert_eq!(scan.len(), 4 * 4);
+        assert!(scan.iter().any(|x| x[10] == -1.0 && x[14] == -1.0));
+        assert!(scan.iter().any(|x| x[7] == 0.5 && x[11] == -0.5));
         // yaw of l (3 + 4) with yaw of r (3 + 8) opposite; along equal.
         assert!(m.contains(&vec![(7, 1.0), (11, -1.0)]));
         assert!(m.contains(&vec![(10, 1.0), (14, 1.0)]));
