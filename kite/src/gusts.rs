@@ -16,16 +16,28 @@
 //! `f_k`) do not depend on the seed, so in steady state every output `y =
 //! C x` (line elevation, the body rates, height) has the exact spectral
 //! moments `m_0 = Σ |C G(iω_k) B|² a_k²/2` and `m_2 = Σ ω_k² |…|² a_k²/2`,
-//! `G(s) = (sI - A)⁻¹`, summed over the three components. Its expected
-//! extreme over a span `T` is `g σ`, `σ = √m_0`, with the peak factor `g`
-//! of a Gaussian process crossing its mean `νT` times in the span, `ν =
+//! `G(s) = (sI - A)⁻¹`, summed over the three components. Its extreme
+//! over a span `T` is `g σ`, `σ = √m_0`, with the peak factor `g` of a
+//! Gaussian process crossing its mean `νT` times in the span, `ν =
 //! √(m_2/m_0)/2π` (S. O. Rice, "Mathematical analysis of random noise",
-//! 1944-45; for many crossings `g` is A. G. Davenport's `√(2 ln νT) +
-//! 0.5772/√(2 ln νT)`, Proc. ICE 28, 1964; see [`expected_max`]). The
+//! 1944-45), from the distribution of the span's largest value
+//! `P(max ≤ z) ≈ Φ(z) exp(-νT e^{-z²/2})` (see [`design_peak`]). The
 //! gusts are dominated by periods of 30-100 s (Λ/U = 6 s), so within the
 //! 30 s the flight judges the slow part is nearly an offset: `g` is then
-//! well below Davenport's. `T` is the span the flight judges: the second
-//! half of the run for elevation and spin, the whole run for the ground.
+//! well below Davenport's many-crossing `√(2 ln νT) + 0.5772/√(2 ln νT)`
+//! (A. G. Davenport, Proc. ICE 28, 1964). `T` is the span the flight
+//! judges: the second half of the run for elevation and spin, the whole
+//! run for the ground.
+//!
+//! Which extreme: the verdict says the kite flies on every one of the
+//! [`RUNS`] seeds it is flown on (issue 17: seeds 1-3), each an
+//! independent draw of the gust phases. The expected extreme of one run
+//! (the statistic used before) is exceeded in about half the runs, so a
+//! kite predicted just inside a limit crashed on one seed in three
+//! (BENCHMARKS, issue 17, kv2). The statistic is instead the median of the
+//! worst of [`RUNS`] runs: the level `z` with `P(max ≤ z)^RUNS = 1/2`, so
+//! a kite is called stable when it is more likely than not to fly on all
+//! of them (the decision that errs least when both errors cost the same).
 //!
 //! The spin `|Ω|` is taken as the norm of the three body rates: its `σ`
 //! is `√(Σ m_0)` and it is given the same peak factor (an approximation:
@@ -58,13 +70,14 @@ pub struct GustReport {
     pub elevation_deg: f64,
     /// Standard deviation of the line elevation, degrees.
     pub sigma_elevation_deg: f64,
-    /// Expected lowest line elevation over the judged half, degrees.
+    /// Lowest line elevation over the judged half, degrees (the median of
+    /// the worst of [`RUNS`] runs, module doc).
     pub min_elevation_deg: f64,
     /// Standard deviation of `|Ω|` (norm of the body-rate deviations), rad/s.
     pub sigma_spin: f64,
-    /// Expected largest `|Ω|` over the judged half, rad/s.
+    /// Largest `|Ω|` over the judged half (same statistic), rad/s.
     pub max_spin: f64,
-    /// Expected lowest centre-of-mass height over the run, m.
+    /// Lowest centre-of-mass height over the run (same statistic), m.
     pub min_height: f64,
     /// The limits the flight judges by: elevation, degrees; spin, rad/s;
     /// height, m.
@@ -89,34 +102,54 @@ impl Moments {
         self.1 += p * omega * omega;
     }
 
-    /// The expected largest excursion over `span` seconds, `σ E[ẑ]`.
+    /// The largest excursion over `span` seconds at the verdict's
+    /// statistic, `σ ẑ` ([`design_peak`]).
     fn peak(self, span: f64) -> f64 {
         let sigma = self.0.sqrt();
         if !(sigma > 0.0) {
             return 0.0;
         }
         let rate = (self.1 / self.0).sqrt() / (2.0 * std::f64::consts::PI);
-        sigma * expected_max(rate * span)
+        sigma * design_peak(rate * span)
     }
 }
 
-/// `E[max z]` over a span holding `n = νT` up-crossings of the mean on
-/// average, `z` a unit Gaussian process: from `P(max ≤ z) ≈ Φ(z)
-/// exp(-n e^{-z²/2})` (below `z` at the start, then no up-crossing of it:
-/// Rice's rate, Poisson crossings), `E = ∫₀^∞ (1 - P) dz - ∫_{-∞}^0 P dz`.
-/// It is 0 for a process too slow to change within the span and tends to
-/// Davenport's `√(2 ln n) + 0.5772/√(2 ln n)` for many crossings.
-fn expected_max(n: f64) -> f64 {
-    const DZ: f64 = 0.005;
-    // Midpoint rule: no sample falls on the jump of the integrand at 0.
-    let mut e = 0.0;
-    let mut z = -8.0 + DZ / 2.0;
-    while z < 10.0 {
-        let p = phi(z) * (-n * (-z * z / 2.0).exp()).exp();
-        e += if z > 0.0 { 1.0 - p } else { -p } * DZ;
-        z += DZ;
+/// Independent gusty flights the verdict speaks for: `kite fly` on seeds
+/// 1-3, as issue 17's acceptance flies every design.
+pub const RUNS: i32 = 3;
+
+/// `P(max z ≤ level)` over a span holding `n = νT` up-crossings of the
+/// mean on average, `z` a unit Gaussian process: below the level at the
+/// start, then no up-crossing of it (Rice's rate `n e^{-z²/2}`, crossings
+/// as a Poisson stream).
+fn max_below(level: f64, n: f64) -> f64 {
+    phi(level) * (-n * (-level * level / 2.0).exp()).exp()
+}
+
+/// The peak factor the verdict uses: the level the largest of [`RUNS`]
+/// independent spans (each holding `n = νT` mean up-crossings) stays
+/// below with probability 1/2, `max_below(z, n)^RUNS = 1/2`. For `n → 0`
+/// it is the median of the largest of [`RUNS`] Gaussian values (0.82);
+/// for many crossings `√(2 ln(RUNS n / ln 2))`.
+fn design_peak(n: f64) -> f64 {
+    quantile_of_max(n, RUNS, 0.5)
+}
+
+/// The level the largest of `runs` spans of `n` mean up-crossings each
+/// stays below with probability `p`, by bisection (`max_below` increases
+/// with the level).
+fn quantile_of_max(n: f64, runs: i32, p: f64) -> f64 {
+    let target = p.powf(1.0 / f64::from(runs));
+    let (mut lo, mut hi) = (-8.0f64, 12.0f64);
+    for _ in 0..60 {
+        let mid = (lo + hi) / 2.0;
+        if max_below(mid, n) < target {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
     }
-    e
+    (lo + hi) / 2.0
 }
 
 /// The unit normal distribution function `Φ(z)` (Abramowitz & Stegun
@@ -205,12 +238,17 @@ pub fn response(
     }
 }
 
-/// The expected largest along-wind gust (m/s above the mean) of `wind`
-/// over `span` seconds, counting only its sinusoids up to `max_hz`: their
-/// spectral moments and Rice's peak factor, as for the kite's outputs.
-pub(crate) fn along_wind_peak(wind: &Wind, span: f64, max_hz: f64) -> f64 {
+/// The largest gust (m/s from the mean) of `wind`'s `component` (0
+/// along-wind, 1 crosswind, 2 vertical) over `span` seconds at the
+/// verdict's statistic ([`design_peak`]), counting only its sinusoids up
+/// to `max_hz`: their spectral moments and Rice's peak factor, as for the
+/// kite's outputs. The spectrum is symmetric, so the deepest lull is as
+/// large.
+pub(crate) fn gust_peak(wind: &Wind, component: usize, span: f64, max_hz: f64) -> f64 {
     let mut m = Moments::default();
-    for &(amp, f) in wind.spectrum()[0].iter().filter(|(_, f)| *f <= max_hz) {
+    let spectrum = wind.spectrum();
+    let modes = spectrum.get(component).map_or(&[][..], |v| &v[..]);
+    for &(amp, f) in modes.iter().filter(|(_, f)| *f <= max_hz) {
         let omega = 2.0 * std::f64::consts::PI * f;
         m.add(Complex::new(1.0, 0.0), amp * amp / 2.0, omega);
     }
@@ -252,16 +290,25 @@ mod tests {
 
     #[test]
     fn peak_factor_limits() {
-        // Too slow to change within the span: the extreme is the value at
-        // any one time, mean 0.
-        assert!(expected_max(0.0).abs() < 1e-3, "{}", expected_max(0.0));
-        // Many crossings: Davenport's asymptote.
+        // Too slow to change within the span: the median of one Gaussian
+        // value is 0, of the largest of three Φ⁻¹(2^{-1/3}) = 0.82.
+        assert!(quantile_of_max(0.0, 1, 0.5).abs() < 1e-6);
+        assert!(
+            (design_peak(0.0) - 0.8193).abs() < 1e-3,
+            "{}",
+            design_peak(0.0)
+        );
+        // Many crossings: Φ ≈ 1 and the Gumbel median √(2 ln(R n / ln 2)).
         let n: f64 = 1e4;
-        let l = (2.0 * n.ln()).sqrt();
-        let davenport = l + 0.5772 / l;
-        assert!((expected_max(n) - davenport).abs() < 0.05 * davenport);
-        // More crossings, larger extremes.
-        assert!(expected_max(1.0) < expected_max(10.0));
+        let gumbel = (2.0 * (f64::from(RUNS) * n / 2f64.ln()).ln()).sqrt();
+        assert!((design_peak(n) - gumbel).abs() < 1e-3 * gumbel);
+        // R runs of n crossings are one run of R n when Φ ≈ 1.
+        let one = quantile_of_max(f64::from(RUNS) * n, 1, 0.5);
+        assert!((design_peak(n) - one).abs() < 1e-3);
+        // More crossings, more runs, a higher confidence: larger extremes.
+        assert!(design_peak(1.0) < design_peak(10.0));
+        assert!(quantile_of_max(3.0, 1, 0.5) < design_peak(3.0));
+        assert!(design_peak(3.0) < quantile_of_max(3.0, RUNS, 0.9));
     }
 
     #[test]
