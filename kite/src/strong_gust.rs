@@ -166,9 +166,10 @@ fn margin(m: &LimitCycle, rest_elevation: f64, rest_height: f64) -> f64 {
 pub fn render(g: &StrongGust) -> String {
     let m = &g.motion;
     format!(
-        "  discrete gusts ({} flown; {} of the worst: 1 - cos, {:+.2} m/s over {:.0} s): {}line elevation {:.1}-{:.1} deg (limit {:.0}), |Omega| <= {:.2} rad/s (limit {:.1}): {}\n",
+        "  discrete gusts ({} flown; {}: 1 - cos {} {:+.2} m/s over {:.0} s): {}line elevation {:.1}-{:.1} deg (limit {:.0}), |Omega| <= {:.2} rad/s (limit {:.1}): {}\n",
         g.flown,
-        if g.ok { "closest to a limit" } else { "outside the limits" },
+        if g.ok { "closest to a limit" } else { "the first outside the limits" },
+        g.component,
         g.amplitude,
         g.seconds,
         if m.crashed { "hits the ground; " } else { "" },
