@@ -30,8 +30,8 @@
 //!    (`modes.limit_cycle` in the JSON says which), inside the limits;
 //! 6. the gusts of `kite fly` keep it inside the flight's limits on every
 //!    one of the seeds it is flown on: the linear gust response's extremes
-//!    of line elevation, spin and height (the median of the worst of
-//!    [`crate::gusts::RUNS`] runs, [`crate::gusts`]), and the nonlinear
+//!    of line elevation, spin and height (their expected extremes,
+//!    [`crate::gusts`]), and the nonlinear
 //!    flight through the largest expected gusts and lulls of each wind
 //!    component ([`crate::strong_gust`]) — else `gust_sensitive`.
 
