@@ -349,8 +349,11 @@ fn reasons_after_frame(
     if let Some(g) = modes.strong_gust.as_ref().filter(|g| !g.ok) {
         let m = &g.motion;
         reasons.push(format!(
-            "gust sensitive: a 1 - cos gust to {:.1} m/s takes the line down to {:.1}° (limit 15°), the spin up to {:.2} rad/s{}",
-            g.wind,
+            "gust sensitive: a 1 - cos {} {} of {:.2} m/s over {:.0} s takes the line down to {:.1}° (limit 15°), the spin up to {:.2} rad/s{}",
+            g.component,
+            if g.amplitude < 0.0 { "lull" } else { "gust" },
+            g.amplitude.abs(),
+            g.seconds,
             m.elevation_deg[0],
             m.max_spin,
             if m.crashed { ", the kite to the ground" } else { "" }

@@ -258,6 +258,12 @@ impl Flight {
         self.wind = Wind::new(speed, gust, self.seed);
     }
 
+    /// A steady wind `v` (world frame, m/s) from now on, without gusts:
+    /// the discrete gusts of [`crate::strong_gust`] are flown through it.
+    pub(crate) fn set_steady_wind(&mut self, v: Vector3<f64>) {
+        self.wind = Wind::steady(v);
+    }
+
     /// Whether the centre of mass came within [`GROUND_CLEARANCE`] of the
     /// ground, or the state diverged.
     pub fn crashed(&self) -> bool {

@@ -95,7 +95,7 @@ pub struct ModesReport {
     /// `None` unless the motion is `bounded` (a growth without end has no
     /// steady response).
     pub gusts: Option<GustReport>,
-    /// The settled state in the steady wind of the strongest expected gust
+    /// The flight through the largest expected discrete gusts and lulls
     /// ([`crate::strong_gust`]); `None` unless the linear gust test passes.
     pub strong_gust: Option<StrongGust>,
 }

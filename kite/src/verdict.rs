@@ -28,11 +28,12 @@
 //!    does NOT end inside the limits (it crashes, loops, or lies low);
 //!    `stable` means the kite rests, or circles on a small limit cycle
 //!    (`modes.limit_cycle` in the JSON says which), inside the limits;
-//! 6. the gusts of `kite fly` keep it inside the flight's limits: the
-//!    linear gust response's expected extremes of line elevation, spin and
-//!    height ([`crate::gusts`]), and the settled state in the steady wind
-//!    of the strongest expected gust ([`crate::strong_gust`]) — else
-//!    `gust_sensitive`.
+//! 6. the gusts of `kite fly` keep it inside the flight's limits on every
+//!    one of the seeds it is flown on: the linear gust response's extremes
+//!    of line elevation, spin and height (their expected extremes,
+//!    [`crate::gusts`]), and the nonlinear
+//!    flight through the largest expected gusts and lulls of each wind
+//!    component ([`crate::strong_gust`]) — else `gust_sensitive`.
 
 use serde::Serialize;
 

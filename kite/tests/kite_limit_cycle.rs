@@ -1,8 +1,8 @@
 //! Issue 17: a growing mode that saturates. `box-three-cell` pitched 5°
 //! nose-up has a pitch-pendulum mode growing at +0.16/s (the nonlinear
 //! flight grows at the same rate), but the growth stops in a small limit
-//! cycle well inside the flight's limits and the kite flies on every seed:
-//! the verdict is `stable`, with the cycle reported. The classic box
+//! cycle well inside the flight's limits and the kite flies on seeds 1-3:
+//! the verdict's dynamic test passes, with the cycle reported. The classic box
 //! kite's roll-yaw flutter saturates too, but turning faster than the
 //! flight's `MAX_SPIN`: it stays `dynamically_unstable` and crashes.
 
@@ -32,7 +32,14 @@ fn a_growing_mode_that_saturates_inside_the_limits_flies() {
     assert!(cycle.inside_limits, "{report}");
     assert!(cycle.elevation_deg[0] > MIN_ELEVATION_DEG && cycle.max_spin < MAX_SPIN);
     assert!(c.modes.bounded && c.modes.gusts.is_some(), "{report}");
-    assert_eq!(c.verdict, Verdict::Stable, "{report}");
+    // The dynamic test passes; the gust test then decides. This variant
+    // flies on 9 of seeds 1-12 but all three of a triple only on 1-3
+    // (BENCHMARKS, issue 17, kv2), so at the verdict's statistic (the
+    // median of the worst of three flights) it may be `gust_sensitive`.
+    assert!(
+        matches!(c.verdict, Verdict::Stable | Verdict::GustSensitive),
+        "{report}"
+    );
     let f = flight::fly(&design, &FlightOptions::default()).unwrap();
     assert_eq!(f.outcome, Outcome::Flies, "{}", flight::render(&f));
 }
