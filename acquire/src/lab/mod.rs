@@ -8,6 +8,7 @@
 //! * [`forcenoise`]: is the C_F error force noise or force bias?
 //! * [`missing_terms`]: residual analysis of terms the model lacks;
 //! * [`mixfit`]: forces or velocities — which carries the C_F error?
+//! * [`steering`]: does the steering model leak into `dΩ/dt`?
 //! * [`torquesplit`]: which frames' torque error makes the C_T error?
 //! * [`truthfit`]: the fit from the true states (fit error alone).
 
@@ -17,6 +18,7 @@ pub mod diag;
 pub mod forcenoise;
 pub mod missing_terms;
 pub mod mixfit;
+pub mod steering;
 pub mod torquesplit;
 pub mod truthfit;
 
