@@ -66,6 +66,10 @@ pub struct Common {
     /// Floor of the process noise's walks, relative to the no-model walks.
     #[arg(long)]
     pub noise_floor: Option<f64>,
+    /// Turn of the air's direction (rad) over which the unexplained torque
+    /// decorrelates (`FitConfig::torque_turn`; default: off).
+    #[arg(long)]
+    pub torque_turn: Option<f64>,
     /// Frames of the mirror-branch test (0: none).
     #[arg(long)]
     pub mirror_window: Option<usize>,
@@ -137,6 +141,7 @@ impl Common {
             }),
             iterations: Some(self.iterations),
             noise_floor: self.noise_floor,
+            torque_turn: self.torque_turn,
             mirror_window: self.mirror_window,
             smoothing: self.smoothing,
             no_extensions: self.no_extensions,

@@ -46,6 +46,8 @@ pub struct Knobs {
     pub iterations: Option<usize>,
     /// `FitConfig::noise_floor`.
     pub noise_floor: Option<f64>,
+    /// `FitConfig::torque_turn`, rad.
+    pub torque_turn: Option<f64>,
     /// `FilterConfig::mirror_window` (0: no mirror-branch tests).
     pub mirror_window: Option<usize>,
     /// A fixed smoothing weight instead of the cross-validated one.
@@ -82,6 +84,9 @@ impl Knobs {
         }
         if let Some(f) = self.noise_floor {
             cfg.noise_floor = f;
+        }
+        if let Some(t) = self.torque_turn {
+            cfg.torque_turn = t;
         }
         if let Some(w) = self.mirror_window {
             cfg.filter.mirror_window = w;
