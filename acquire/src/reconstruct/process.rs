@@ -194,6 +194,18 @@ mod tests {
     use crate::input::recording::Object;
     use nalgebra::UnitQuaternion;
 
+    /// A markerless 50 g object of 0.3 m.
+    fn object(name: &str) -> Object {
+        Object {
+            name: name.into(),
+            mass: 0.05,
+            inertia: Matrix3::identity() * 1e-3,
+            reference_length: 0.3,
+            pole: Vector3::z(),
+            markers: Vec::new(),
+        }
+    }
+
     fn process(model: &Coefficients<f64>, bias_time: f64) -> Process<'_> {
         Process {
             body: RigidBody::new(0.05, Matrix3::identity() * 1e-3).expect("body"),
@@ -210,14 +222,7 @@ mod tests {
 
     #[test]
     fn gauss_markov_bias_decays_to_its_stationary_variance() {
-        let object = Object {
-            name: "cube".into(),
-            mass: 0.05,
-            inertia: Matrix3::identity() * 1e-3,
-            reference_length: 0.3,
-            pole: Vector3::z(),
-            markers: Vec::new(),
-        };
+        let object = object("cube");
         let model = crate::fit::model::zero_model(&object, 2).expect("model");
         let (dt, tau) = (0.01, 0.5);
         let walk = process(&model, f64::INFINITY);
@@ -249,14 +254,7 @@ mod tests {
     /// and a random walk or `torque_turn = ∞` is left as it was.
     #[test]
     fn torque_bias_time_follows_the_sweep_of_the_air_direction() {
-        let object = Object {
-            name: "cube".into(),
-            mass: 0.05,
-            inertia: Matrix3::identity() * 1e-3,
-            reference_length: 0.3,
-            pole: Vector3::z(),
-            markers: Vec::new(),
-        };
+        let object = object("cube");
         let model = crate::fit::model::zero_model(&object, 2).expect("model");
         let (dt, tau) = (0.01, 0.5);
         let mut p = process(&model, tau);
@@ -301,14 +299,7 @@ mod tests {
     fn added_mass_step_and_jacobian() {
         use crate::reconstruct::state::{boxminus, boxplus, Delta};
         use omniad_core::effect::{Effect, EffectKind};
-        let object = Object {
-            name: "plate".into(),
-            mass: 0.05,
-            inertia: Matrix3::identity() * 1e-3,
-            reference_length: 0.3,
-            pole: Vector3::z(),
-            markers: Vec::new(),
-        };
+        let object = object("plate");
         let mut model = crate::fit::model::zero_model(&object, 2).expect("model");
         let m_zz = 0.02;
         let am = Effect::new(
