@@ -51,6 +51,13 @@ pub struct FitConfig {
     /// Lower bound of the refined process noise, as a fraction of the
     /// no-model noise of [`initial_noise`] (default 0.02).
     pub noise_floor: f64,
+    /// The turn of the air's direction (rad) over which the unexplained
+    /// torque of a fitted model decorrelates, making its correlation time
+    /// shrink with the spin (`Process::torque_bias_time`); default
+    /// `f64::INFINITY`, off: 1, 3 and 10 rad helped the plates' C_T
+    /// (plate-mujoco 14.72 -> 11.58 % at 1 rad) but made openbox-clean's
+    /// worse at every value (BENCHMARKS.md issue 20, stop 18).
+    pub torque_turn: f64,
     /// How many of the last iterations reconstruct with the filter's
     /// relinearised sweeps (`filter.relinearise`; the others with none).
     /// Default: all. (With the old noise floor of 0.1, relinearised early
@@ -100,6 +107,7 @@ impl Default for FitConfig {
             lsq: LsqConfig::default(),
             filter: FilterConfig::default(),
             noise_floor: 0.02,
+            torque_turn: f64::INFINITY,
             relinearised_iterations: usize::MAX,
             effects: Vec::new(),
             cross_fit: false,
@@ -281,7 +289,12 @@ pub fn fit(set: &RecordingSet, cfg: &FitConfig, progress: &dyn Progress) -> Resu
         let kept = iterations.iter().rfind(|r| !r.rejected);
         match fitted {
             Some(fitted) if !kept.is_some_and(|b| worse(&report, b)) => {
-                noise = next_noise(set, first, report.residual_dimensional, cfg.noise_floor);
+                noise = next_noise(
+                    set,
+                    first,
+                    report.residual_dimensional,
+                    (cfg.noise_floor, cfg.torque_turn),
+                );
                 if cfg.cross_fit && it + 1 < cfg.iterations {
                     own = cross_fit::per_take_models(
                         &fitted,
@@ -471,7 +484,14 @@ pub fn final_noise(
         .iterations
         .iter()
         .rfind(|r| !r.rejected)
-        .map(|r| next_noise(set, first, r.residual_dimensional, cfg.noise_floor))
+        .map(|r| {
+            next_noise(
+                set,
+                first,
+                r.residual_dimensional,
+                (cfg.noise_floor, cfg.torque_turn),
+            )
+        })
         .unwrap_or(first);
     most_likely_bias_time(set, &outcome.model, noise, &cfg.filter)
 }

@@ -27,6 +27,8 @@ pub enum LabCommand {
     Mixfit(Set),
     /// Which frames' torque error makes the C_T error?
     Torquesplit(Set),
+    /// Does the model that steered the last reconstruction leak into dΩ/dt?
+    Steering(Set),
     /// The fit from the true states (fit error alone).
     Truthfit(TruthfitArgs),
 }
@@ -64,6 +66,10 @@ pub struct Common {
     /// Floor of the process noise's walks, relative to the no-model walks.
     #[arg(long)]
     pub noise_floor: Option<f64>,
+    /// Turn of the air's direction (rad) over which the unexplained torque
+    /// decorrelates (`FitConfig::torque_turn`; default: off).
+    #[arg(long)]
+    pub torque_turn: Option<f64>,
     /// Frames of the mirror-branch test (0: none).
     #[arg(long)]
     pub mirror_window: Option<usize>,
@@ -135,6 +141,7 @@ impl Common {
             }),
             iterations: Some(self.iterations),
             noise_floor: self.noise_floor,
+            torque_turn: self.torque_turn,
             mirror_window: self.mirror_window,
             smoothing: self.smoothing,
             no_extensions: self.no_extensions,
@@ -170,6 +177,7 @@ pub fn run(c: &LabCommand) -> Result<()> {
         LabCommand::MissingTerms(a) => lab::missing_terms::run(&a.set, &mut out),
         LabCommand::Mixfit(a) => lab::mixfit::run(&a.set, &mut out),
         LabCommand::Torquesplit(a) => lab::torquesplit::run(&a.set, &mut out),
+        LabCommand::Steering(a) => lab::steering::run(&a.set, &mut out),
         LabCommand::Truthfit(a) => {
             let knobs = Knobs {
                 relinearise: a.relinearise,

@@ -96,6 +96,7 @@ pub fn run(
                 force_walk: noise.force_walk,
                 torque_walk: noise.torque_walk,
                 bias_time: noise.bias_time,
+                torque_turn: noise.torque_turn,
             },
             object: &set.object,
             camera: set.camera.as_ref(),

@@ -8,6 +8,7 @@
 //! * [`forcenoise`]: is the C_F error force noise or force bias?
 //! * [`missing_terms`]: residual analysis of terms the model lacks;
 //! * [`mixfit`]: forces or velocities — which carries the C_F error?
+//! * [`steering`]: does the steering model leak into `dΩ/dt`?
 //! * [`torquesplit`]: which frames' torque error makes the C_T error?
 //! * [`truthfit`]: the fit from the true states (fit error alone).
 
@@ -17,6 +18,7 @@ pub mod diag;
 pub mod forcenoise;
 pub mod missing_terms;
 pub mod mixfit;
+pub mod steering;
 pub mod torquesplit;
 pub mod truthfit;
 
@@ -44,6 +46,8 @@ pub struct Knobs {
     pub iterations: Option<usize>,
     /// `FitConfig::noise_floor`.
     pub noise_floor: Option<f64>,
+    /// `FitConfig::torque_turn`, rad.
+    pub torque_turn: Option<f64>,
     /// `FilterConfig::mirror_window` (0: no mirror-branch tests).
     pub mirror_window: Option<usize>,
     /// A fixed smoothing weight instead of the cross-validated one.
@@ -80,6 +84,9 @@ impl Knobs {
         }
         if let Some(f) = self.noise_floor {
             cfg.noise_floor = f;
+        }
+        if let Some(t) = self.torque_turn {
+            cfg.torque_turn = t;
         }
         if let Some(w) = self.mirror_window {
             cfg.filter.mirror_window = w;

@@ -20,17 +20,17 @@ use std::path::Path;
 
 /// A true frame and its reconstructed twin.
 #[derive(Clone, Copy)]
-struct Pair {
+pub(super) struct Pair {
     /// The frame of the true states (eqs. 9-10 on them).
-    truth: Sample,
+    pub(super) truth: Sample,
     /// Reconstructed minus true torque, body frame, N m.
-    error: Vector3<f64>,
+    pub(super) error: Vector3<f64>,
     /// Position in its take, 0..1.
-    along: f64,
+    pub(super) along: f64,
     /// Reconstructed minus true Ω, body frame, rad/s.
-    omega_error: Vector3<f64>,
+    pub(super) omega_error: Vector3<f64>,
     /// Angle between the reconstructed and the true attitude, rad.
-    attitude_error: f64,
+    pub(super) attitude_error: f64,
 }
 
 /// A number of a frame pair that splits the frames in halves.
@@ -162,7 +162,7 @@ fn model_lean(
 }
 
 /// Every true frame with a reconstructed twin.
-fn paired(set: &RecordingSet, truth: &[Sample], rec: &[Sample]) -> Vec<Pair> {
+pub(super) fn paired(set: &RecordingSet, truth: &[Sample], rec: &[Sample]) -> Vec<Pair> {
     let rec: HashMap<(usize, usize), &Sample> =
         rec.iter().map(|s| ((s.take, s.index), s)).collect();
     truth
@@ -285,7 +285,7 @@ fn shuffled(v: &[Vector3<f64>], seed: u64) -> Vec<Vector3<f64>> {
 
 /// Centred `2w + 1`-frame mean of `values` (one per pair) over the
 /// frames of the same take within `w` epochs (fewer near gaps and ends).
-fn moving_mean(pairs: &[Pair], values: &[Vector3<f64>], w: usize) -> Vec<Vector3<f64>> {
+pub(super) fn moving_mean(pairs: &[Pair], values: &[Vector3<f64>], w: usize) -> Vec<Vector3<f64>> {
     (0..pairs.len())
         .map(|i| {
             let Some(c) = pairs.get(i) else {

@@ -72,6 +72,7 @@ pub fn run(
             accel: first.accel * acc,
             angular_accel: first.angular_accel * ang,
             bias_time: first.bias_time,
+            torque_turn: first.torque_turn,
         };
         let rec = crate::reconstruct::run::reconstruct(
             &set,

@@ -317,7 +317,8 @@ impl Filter<'_> {
                 Some(p) => {
                     let dt = e.t - prev_t;
                     let (x, f) = self.process.step_with_jacobian(&p.filtered, dt);
-                    let cov = f * p.filtered_cov * f.transpose() + self.process.noise(dt);
+                    let cov =
+                        f * p.filtered_cov * f.transpose() + self.process.noise(&p.filtered, dt);
                     if finite(&x) && cov.iter().all(|v| v.is_finite()) {
                         (x, cov, f)
                     } else {

@@ -18,6 +18,10 @@ pub struct ProcessNoise {
     /// Correlation time of the unexplained wrench, s (`f64::INFINITY`: a
     /// random walk; see `Process::bias_time`).
     pub bias_time: f64,
+    /// Turn of the air's direction over which the unexplained torque
+    /// decorrelates, rad (`f64::INFINITY`: its correlation time is
+    /// `bias_time`; see `Process::torque_bias_time`).
+    pub torque_turn: f64,
 }
 
 impl ProcessNoise {
@@ -77,6 +81,7 @@ pub fn initial_noise(set: &RecordingSet) -> ProcessNoise {
         force_walk: force / tau.sqrt(),
         torque_walk: torque / tau.sqrt(),
         bias_time: f64::INFINITY,
+        torque_turn: f64::INFINITY,
     }
 }
 
@@ -88,11 +93,13 @@ pub fn initial_noise(set: &RecordingSet) -> ProcessNoise {
 /// times the no-model walks. A random walk lets a slowly drifting depth
 /// error (the poorly observed direction of §5's marker updates) pass as
 /// unexplained force; the decay bounds that drift. The white noise is kept.
+/// `torque_turn` (rad, `f64::INFINITY`: off) makes the unexplained torque's
+/// correlation time shrink with the spin (`Process::torque_bias_time`).
 pub(crate) fn next_noise(
     set: &RecordingSet,
     first: ProcessNoise,
     rms: (f64, f64),
-    floor: f64,
+    (floor, torque_turn): (f64, f64),
 ) -> ProcessNoise {
     let (_, _, tau) = scales(set);
     let bias_time = BIAS_TIME_SCALES * tau;
@@ -101,6 +108,7 @@ pub(crate) fn next_noise(
         force_walk: (rms.0 * k).clamp(floor * first.force_walk, first.force_walk),
         torque_walk: (rms.1 * k).clamp(floor * first.torque_walk, first.torque_walk),
         bias_time,
+        torque_turn,
         ..first
     }
 }

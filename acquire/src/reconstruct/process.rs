@@ -35,6 +35,11 @@ pub struct Process<'a> {
     /// Gauss-Markov process that decays as `exp(-dt/τ_b)` with stationary
     /// RMS `walk·sqrt(τ_b/2)`; `f64::INFINITY` makes it a random walk.
     pub bias_time: f64,
+    /// Angle (rad) the air's direction `E` must turn through in the body
+    /// frame for the unexplained TORQUE to decorrelate: its correlation
+    /// time is state-dependent, `1/τ_T = 1/τ_b + |Ω × E|/θ_T` (see
+    /// [`Self::torque_bias_time`]); `f64::INFINITY`: `τ_T = τ_b`.
+    pub torque_turn: f64,
 }
 
 /// The OmniAD wrench plus a constant body-frame bias.
@@ -79,32 +84,40 @@ impl Process<'_> {
             force: s.force,
             torque: s.torque,
         };
-        let decay = self.bias_decay(dt);
         FilterState {
             body: rk4_step(&self.body, &self.environment, &forces, 0.0, dt, &s.body),
-            force: s.force * decay,
-            torque: s.torque * decay,
+            force: s.force * decay(self.bias_time, dt),
+            torque: s.torque * decay(self.torque_bias_time(s), dt),
         }
     }
 
-    /// The bias's decay over `dt`, `exp(-dt/τ_b)` (1 for a random walk).
-    fn bias_decay(&self, dt: f64) -> f64 {
-        if self.bias_time.is_finite() && self.bias_time > 0.0 {
-            (-dt / self.bias_time).exp()
-        } else {
-            1.0
+    /// Correlation time (s) of the unexplained torque at state `s`:
+    /// `1/τ_T = 1/τ_b + |Ω × E|/θ_T` ([`Self::torque_turn`]; `E` the
+    /// body-frame direction of the air velocity `V = Rᵀ(v - w)`, `Ω` the
+    /// body rate, rad/s; `|Ω|` when `V = 0`). Why: once a model is fitted,
+    /// the unexplained torque is the model's error, a function of the state,
+    /// mostly of `E` (eq. 8's `Σ_lm β_lm Y_lm(E)`); along a trajectory it
+    /// changes as `E` turns, and `dE/dt = -Ω × E` (body frame), so a
+    /// spinning body sweeps the error field at `|Ω × E|` rad/s and its
+    /// unexplained torque decorrelates in `θ_T/|Ω × E|` seconds, however
+    /// slowly the air's wrench changes at rest (`τ_b`). A fixed `τ_b`
+    /// makes the bias too slow to follow it at high spin, so the smoother's
+    /// `dΩ/dt` follows the model there (BENCHMARKS.md issue 20, stop 18).
+    /// A random-walk bias (no model yet) stays one.
+    pub fn torque_bias_time(&self, s: &FilterState) -> f64 {
+        if !(self.bias_time.is_finite() && self.bias_time > 0.0) {
+            return self.bias_time;
         }
-    }
-
-    /// Variance added to the bias over `dt` per unit walk²: `dt` for a
-    /// random walk, `τ_b (1 - exp(-2 dt/τ_b)) / 2` for the Gauss-Markov bias
-    /// (the same to first order in `dt`).
-    fn bias_variance(&self, dt: f64) -> f64 {
-        let d = self.bias_decay(dt);
-        if d < 1.0 {
-            0.5 * self.bias_time * (1.0 - d * d)
+        let omega = s.body.angular_velocity;
+        let v = s.body.air_velocity_body(&self.environment.wind);
+        let sweep = v
+            .try_normalize(0.0)
+            .map_or(omega.norm(), |e| omega.cross(&e).norm());
+        let rate = 1.0 / self.bias_time + sweep / self.torque_turn;
+        if rate.is_finite() && rate > 0.0 {
+            1.0 / rate
         } else {
-            dt
+            self.bias_time
         }
     }
 
@@ -122,10 +135,12 @@ impl Process<'_> {
         (next, f)
     }
 
-    /// Discrete process noise for a step of `dt` s: piecewise-constant white
-    /// acceleration (`σ² G Gᵀ`, `G = [dt²/2, dt]`) and the bias's driving
-    /// noise (`bias_variance`).
-    pub fn noise(&self, dt: f64) -> Cov {
+    /// Discrete process noise for a step of `dt` s from state `s`:
+    /// piecewise-constant white acceleration (`σ² G Gᵀ`, `G = [dt²/2, dt]`)
+    /// and the bias's driving noise ([`bias_variance`]; the torque's with
+    /// its state-dependent correlation time, [`Self::torque_bias_time`],
+    /// and the same stationary RMS `walk·sqrt(τ_b/2)`).
+    pub fn noise(&self, s: &FilterState, dt: f64) -> Cov {
         let mut q = Cov::zeros();
         let i3 = Matrix3::<f64>::identity();
         let g = SMatrix::<f64, 2, 1>::new(0.5 * dt * dt, dt);
@@ -139,12 +154,37 @@ impl Process<'_> {
                 }
             }
         }
-        let v = self.bias_variance(dt);
+        let v = bias_variance(self.bias_time, self.bias_time, dt);
         q.fixed_view_mut::<3, 3>(12, 12)
             .copy_from(&(i3 * (self.force_walk.powi(2) * v)));
+        let v = bias_variance(self.bias_time, self.torque_bias_time(s), dt);
         q.fixed_view_mut::<3, 3>(15, 15)
             .copy_from(&(i3 * (self.torque_walk.powi(2) * v)));
         q
+    }
+}
+
+/// A bias's decay over `dt` with correlation time `tau`, `exp(-dt/τ)` (1
+/// for a random walk, `τ` infinite).
+fn decay(tau: f64, dt: f64) -> f64 {
+    if tau.is_finite() && tau > 0.0 {
+        (-dt / tau).exp()
+    } else {
+        1.0
+    }
+}
+
+/// Variance added to a bias over `dt` per unit walk², the walk being that
+/// of correlation time `tau_b` and the bias decaying with `tau`: `dt` for a
+/// random walk, `τ_b (1 - exp(-2 dt/τ)) / 2` for a Gauss-Markov bias (its
+/// stationary variance `walk² τ_b/2` whatever `τ`; the same as `walk² dt`
+/// to first order in `dt` when `τ = τ_b`).
+fn bias_variance(tau_b: f64, tau: f64, dt: f64) -> f64 {
+    let d = decay(tau, dt);
+    if d < 1.0 {
+        0.5 * tau_b * (1.0 - d * d)
+    } else {
+        dt
     }
 }
 
@@ -153,6 +193,18 @@ mod tests {
     use super::*;
     use crate::input::recording::Object;
     use nalgebra::UnitQuaternion;
+
+    /// A markerless 50 g object of 0.3 m.
+    fn object(name: &str) -> Object {
+        Object {
+            name: name.into(),
+            mass: 0.05,
+            inertia: Matrix3::identity() * 1e-3,
+            reference_length: 0.3,
+            pole: Vector3::z(),
+            markers: Vec::new(),
+        }
+    }
 
     fn process(model: &Coefficients<f64>, bias_time: f64) -> Process<'_> {
         Process {
@@ -164,19 +216,13 @@ mod tests {
             force_walk: 0.2,
             torque_walk: 0.02,
             bias_time,
+            torque_turn: f64::INFINITY,
         }
     }
 
     #[test]
     fn gauss_markov_bias_decays_to_its_stationary_variance() {
-        let object = Object {
-            name: "cube".into(),
-            mass: 0.05,
-            inertia: Matrix3::identity() * 1e-3,
-            reference_length: 0.3,
-            pole: Vector3::z(),
-            markers: Vec::new(),
-        };
+        let object = object("cube");
         let model = crate::fit::model::zero_model(&object, 2).expect("model");
         let (dt, tau) = (0.01, 0.5);
         let walk = process(&model, f64::INFINITY);
@@ -193,13 +239,57 @@ mod tests {
         assert!((decayed - (-dt / tau).exp()).abs() < 1e-12);
         // Random walk: walk² dt per step; Gauss-Markov: the same to first
         // order, and the variance tends to walk² τ/2.
-        assert!((walk.noise(dt)[(12, 12)] - 0.04 * dt).abs() < 1e-15);
-        assert!((gm.noise(dt)[(12, 12)] / (0.04 * dt) - 1.0).abs() < 0.03);
+        assert!((walk.noise(&s, dt)[(12, 12)] - 0.04 * dt).abs() < 1e-15);
+        assert!((gm.noise(&s, dt)[(12, 12)] / (0.04 * dt) - 1.0).abs() < 0.03);
         let (mut v, d2) = (0.0, (-2.0 * dt / tau).exp());
         for _ in 0..2000 {
-            v = d2 * v + gm.noise(dt)[(12, 12)];
+            v = d2 * v + gm.noise(&s, dt)[(12, 12)];
         }
         assert!((v / (0.04 * tau / 2.0) - 1.0).abs() < 1e-6);
+    }
+
+    /// The unexplained torque's correlation time shrinks with the rate
+    /// `|Ω × E|` at which the air's direction turns in the body frame (a
+    /// spin about `E` does not turn it), its stationary variance is kept,
+    /// and a random walk or `torque_turn = ∞` is left as it was.
+    #[test]
+    fn torque_bias_time_follows_the_sweep_of_the_air_direction() {
+        let object = object("cube");
+        let model = crate::fit::model::zero_model(&object, 2).expect("model");
+        let (dt, tau) = (0.01, 0.5);
+        let mut p = process(&model, tau);
+        p.torque_turn = 2.0;
+        let state = |w: Vector3<f64>| {
+            FilterState::new(State {
+                position: Vector3::zeros(),
+                orientation: UnitQuaternion::identity(),
+                velocity: Vector3::new(0.0, 0.0, -3.0),
+                angular_velocity: w,
+            })
+        };
+        let about_e = state(Vector3::new(0.0, 0.0, 10.0));
+        let across = state(Vector3::new(10.0, 0.0, 0.0));
+        assert!((p.torque_bias_time(&about_e) - tau).abs() < 1e-12);
+        // 1/τ_T = 1/0.5 + 10/2 = 7 per second.
+        assert!((p.torque_bias_time(&across) - 1.0 / 7.0).abs() < 1e-12);
+        // The force's bias is untouched; the torque decays faster.
+        let mut s = across;
+        s.force = Vector3::x();
+        s.torque = Vector3::x();
+        let next = p.step(&s, dt);
+        assert!((next.force.x - (-dt / tau).exp()).abs() < 1e-12);
+        assert!((next.torque.x - (-7.0 * dt).exp()).abs() < 1e-12);
+        // Stationary variance walk² τ_b / 2 whatever the sweep.
+        let (mut v, d2) = (0.0, (-14.0 * dt).exp());
+        for _ in 0..2000 {
+            v = d2 * v + p.noise(&across, dt)[(15, 15)];
+        }
+        assert!((v / (0.02f64.powi(2) * tau / 2.0) - 1.0).abs() < 1e-6);
+        // Off: the same as the force's.
+        p.torque_turn = f64::INFINITY;
+        assert!((p.torque_bias_time(&across) - tau).abs() < 1e-12);
+        let walk = process(&model, f64::INFINITY);
+        assert!(walk.torque_bias_time(&across).is_infinite());
     }
 
     /// A model with added mass: the step puts M_a on the mass side (a
@@ -209,14 +299,7 @@ mod tests {
     fn added_mass_step_and_jacobian() {
         use crate::reconstruct::state::{boxminus, boxplus, Delta};
         use omniad_core::effect::{Effect, EffectKind};
-        let object = Object {
-            name: "plate".into(),
-            mass: 0.05,
-            inertia: Matrix3::identity() * 1e-3,
-            reference_length: 0.3,
-            pole: Vector3::z(),
-            markers: Vec::new(),
-        };
+        let object = object("plate");
         let mut model = crate::fit::model::zero_model(&object, 2).expect("model");
         let m_zz = 0.02;
         let am = Effect::new(

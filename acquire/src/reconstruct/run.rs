@@ -113,6 +113,7 @@ fn scaled_filter<'a>(
         force_walk: noise.force_walk,
         torque_walk: noise.torque_walk,
         bias_time: noise.bias_time,
+        torque_turn: noise.torque_turn,
     };
     let (force, torque, _) = scales(set);
     config.initial_bias = [force * scale, torque * scale];

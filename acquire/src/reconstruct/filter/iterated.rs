@@ -50,7 +50,8 @@ impl Filter<'_> {
                     let dt = e.t - prev_t;
                     let (fx, f) = self.process.step_with_jacobian(&prev_ref, dt);
                     let x = boxplus(&fx, &(f * boxminus(&p.filtered, &prev_ref)));
-                    let cov = f * p.filtered_cov * f.transpose() + self.process.noise(dt);
+                    let cov =
+                        f * p.filtered_cov * f.transpose() + self.process.noise(&prev_ref, dt);
                     if finite(&x) && cov.iter().all(|v| v.is_finite()) {
                         (x, cov, f)
                     } else {

@@ -82,7 +82,7 @@ impl Filter<'_> {
         let mut nll = 0.0;
         for e in epochs {
             let (xn, f) = self.process.step_with_jacobian(&x, e.t - prev);
-            let pn = f * p * f.transpose() + self.process.noise(e.t - prev);
+            let pn = f * p * f.transpose() + self.process.noise(&x, e.t - prev);
             prev = e.t;
             if !finite(&xn) || pn.iter().any(|v| !v.is_finite()) {
                 return f64::INFINITY;

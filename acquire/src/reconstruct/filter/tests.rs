@@ -35,6 +35,7 @@ fn mirror_pose_fits_the_markers_and_keeps_the_centroid_motion() {
             force_walk: 0.1,
             torque_walk: 0.01,
             bias_time: f64::INFINITY,
+            torque_turn: f64::INFINITY,
         },
         object: &object,
         camera: Some(&camera),
