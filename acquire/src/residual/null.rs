@@ -188,8 +188,8 @@ mod tests {
 
     /// The truth states of take `name` of the synthetic set in `dir`.
     fn truth(dir: &std::path::Path, name: &str) -> Smoothed {
-        let rows = crate::input::state_csv::read_states(&dir.join("truth").join(name))
-            .expect("truth csv");
+        let rows =
+            crate::input::state_csv::read_states(&dir.join("truth").join(name)).expect("truth csv");
         let (times, states) = rows
             .iter()
             .map(|r| {
@@ -257,7 +257,10 @@ mod tests {
                 }
             }
         }
-        assert!(seen > 100 && worst < 0.01, "{seen} sightings, worst {worst} px");
+        assert!(
+            seen > 100 && worst < 0.01,
+            "{seen} sightings, worst {worst} px"
+        );
     }
 
     #[test]

@@ -159,8 +159,17 @@ fn calibrate(
     }
     let n = draws.len() as f64;
     let gains = ALL.iter().enumerate().map(|(i, c)| {
-        let g: Vec<f64> = draws.iter().map(|d| d.1.get(i).copied().unwrap_or(0.0)).collect();
-        (c.name(), NullGains { bound: null::bound(&g), draws: g })
+        let g: Vec<f64> = draws
+            .iter()
+            .map(|d| d.1.get(i).copied().unwrap_or(0.0))
+            .collect();
+        (
+            c.name(),
+            NullGains {
+                bound: null::bound(&g),
+                draws: g,
+            },
+        )
     });
     Some(NullCalibration {
         heldout_force_rms: draws.iter().map(|d| d.0).sum::<f64>() / n,
@@ -237,7 +246,8 @@ pub(crate) fn round(
 /// (gain at least [`MIN_GAIN`] above its null gain, sign test passed),
 /// plausible or not.
 fn significant(t: &select::Tried) -> bool {
-    t.gain - t.null_gain.max(0.0) >= MIN_GAIN && t.takes_better.0 >= sign_threshold(t.takes_better.1)
+    t.gain - t.null_gain.max(0.0) >= MIN_GAIN
+        && t.takes_better.0 >= sign_threshold(t.takes_better.1)
 }
 
 /// The state effects round `r` points to: its wind (added to the wind it

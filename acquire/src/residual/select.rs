@@ -394,14 +394,9 @@ pub(crate) fn select(
             progress.tick();
             let at = ALL.iter().position(|a| *a == c);
             let null_gain = at.and_then(|i| null.get(i)).copied().unwrap_or(0.0);
-            let Some((t, s)) = try_candidate(
-                p,
-                &design,
-                &current,
-                units,
-                (c, null_gain),
-                (rho, l, step),
-            ) else {
+            let Some((t, s)) =
+                try_candidate(p, &design, &current, units, (c, null_gain), (rho, l, step))
+            else {
                 continue;
             };
             if let Some(s) = s {
