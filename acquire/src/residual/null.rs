@@ -39,7 +39,7 @@
 use crate::input::recording::{RecordingSet, Take};
 use crate::input::tracks::{Epoch, MarkerSighting, Observation};
 use crate::reconstruct::filter::Smoothed;
-use crate::synth::rng::Rng;
+use crate::rng::Rng;
 use nalgebra::{Vector2, Vector3};
 use omniad_core::rigid_body::AirForces;
 use omniad_core::{Coefficients, Environment, RigidBody, State};
