@@ -12,8 +12,9 @@
 //! * its held-out weighted force error is lower by at least [`MIN_GAIN`]
 //!   above its null bound (the gain it reaches on the set re-simulated
 //!   without effects, [`super::null`]) *and* it is lower on
-//!   significantly many takes (a one-sided sign test at [`SIGN_LEVEL`]: a gain made by a few takes is not a property of
-//!   the air) — the force alone decides significance, as before;
+//!   significantly many takes (a one-sided sign test at [`SIGN_LEVEL`]:
+//!   a gain made by a few takes is not a property of the air) — the
+//!   force alone decides significance, as before;
 //! * force and torque together improve (a held-out torque made worse by
 //!   more than the force is made better, in those units, rejects it);
 //! * its parameters are physically plausible
