@@ -17,6 +17,7 @@ pub(crate) mod parallel;
 pub mod pipeline;
 pub mod reconstruct;
 pub mod residual;
+pub(crate) mod rng;
 pub mod synth;
 
 pub use error::{Error, Result};

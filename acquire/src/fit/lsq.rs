@@ -47,7 +47,7 @@ pub(crate) mod tests {
     use crate::fit::force::{fit_force, force_smoothing};
     use crate::fit::smoothing::SMOOTHNESS_ORDERS;
     use crate::input::recording::TakeKind;
-    use crate::synth::rng::Rng;
+    use crate::rng::Rng;
     use crate::synth::{truth_model, ObjectSpec, SynthObject};
     use nalgebra::Vector3;
     use omniad_core::gravity_coupling::GravityCoupling;

@@ -133,7 +133,7 @@ pub fn fit(samples: &[Sample], ctx: &FitContext, degree: usize) -> RawModel {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::synth::rng::Rng;
+    use crate::rng::Rng;
     use crate::synth::{truth_model, ObjectSpec, SynthObject};
 
     #[test]

@@ -12,7 +12,7 @@ use crate::input::recording::RecordingSet;
 use crate::pipeline::{self, FitConfig};
 use crate::reconstruct::forces::ForceStats;
 use crate::reconstruct::run::Silent;
-use crate::synth::rng::Rng;
+use crate::rng::Rng;
 use crate::synth::truth::{
     fitted_directions, force_error, read_coefficients, torque_error, true_trajectories,
 };

@@ -11,7 +11,7 @@ use crate::fit::torque::TorqueFrames;
 use crate::input::recording::{RecordingSet, TakeKind};
 use crate::pipeline::{self, FitConfig};
 use crate::reconstruct::forces::Sample;
-use crate::synth::rng::Rng;
+use crate::rng::Rng;
 use crate::synth::truth::{read_coefficients, torque_directions, torque_error};
 use nalgebra::{Matrix3, Vector3};
 use std::collections::HashMap;

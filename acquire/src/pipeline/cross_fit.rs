@@ -112,7 +112,7 @@ mod tests {
 
     /// Mean |C_F - C_F*| over a spread of directions.
     fn error(m: &Coefficients<f64>, truth: &Coefficients<f64>) -> f64 {
-        let mut rng = crate::synth::rng::Rng::new(5);
+        let mut rng = crate::rng::Rng::new(5);
         let mut sum = 0.0;
         for _ in 0..200 {
             let e: Vector3<f64> = rng.direction();

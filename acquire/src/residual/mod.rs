@@ -24,6 +24,7 @@ pub mod diagnose;
 pub mod extend;
 pub mod fixed;
 pub mod identify;
+pub(crate) mod null;
 pub mod plots;
 pub(crate) mod problems;
 pub mod refit;
@@ -87,6 +88,10 @@ pub struct CandidateReport {
     /// ([`identify::beyond_cf`]): what its held-out gain can come from;
     /// absent with a given model.
     pub beyond_cf: Option<f64>,
+    /// The bound of its gains on the set re-simulated without effects
+    /// ([`null`]): it is kept only with a gain at least
+    /// [`select::MIN_GAIN`] above this (or above 0 when it is negative).
+    pub null_gain: f64,
 }
 
 /// Trajectory RMS position error over the first 0.5 s, m.
@@ -151,6 +156,10 @@ pub struct Report {
     pub left_out_takes: Vec<crate::reconstruct::first::LeftOut>,
     /// The refit around the wind and named effects found ([`refit`]).
     pub refit: refit::Refit,
+    /// The null calibration ([`null`]): the candidates' gains on the set
+    /// re-simulated with the base model, without any effect; absent when
+    /// the replicas could not be analysed (then every null bound is 0).
+    pub null_calibration: Option<refit::NullCalibration>,
 }
 
 /// The analysis and the models.
@@ -221,6 +230,7 @@ pub fn analyse(
             rejected: t.rejected.clone(),
             unexplained_without_cf: t.unexplained_without_cf,
             beyond_cf: t.beyond_cf,
+            null_gain: t.null_gain,
         })
         .collect();
     let mut report = Report {
@@ -245,6 +255,7 @@ pub fn analyse(
         takes: last.p.force.takes.len(),
         left_out_takes: last.outcome.left_out.clone(),
         refit: rounds.refit.clone(),
+        null_calibration: first.null.clone(),
     };
     report.words = words::describe(&report, &params);
     report.words.extend(refit::describe(&report.refit));

@@ -40,8 +40,9 @@ use crate::fit::context::FitContext;
 use crate::input::recording::RecordingSet;
 use crate::pipeline::{fit, FitConfig, FitOutcome};
 use crate::reconstruct::run::Progress;
-use crate::residual::candidates::{Candidate, ColumnContext};
+use crate::residual::candidates::{Candidate, ColumnContext, ALL};
 use crate::residual::extend::{extend, Extended};
+use crate::residual::null;
 use crate::residual::problems::{self, Problems};
 use crate::residual::select::{self, sign_threshold, Selection, MIN_GAIN};
 use nalgebra::Vector3;
@@ -68,16 +69,20 @@ pub(crate) struct Round {
     pub sel: Selection,
     /// The selected design fitted on all takes (no process-model effect).
     pub ext: Extended,
+    /// The null calibration the selection used (the first round's).
+    pub null: Option<NullCalibration>,
 }
 
-/// Runs one round with `effects` in the process model.
-pub(crate) fn round(
+/// The fit of `set` with `effects` in the process model, the model the
+/// candidates are fitted against (the coefficients alone, or `given`) and
+/// the joint problems on its states.
+fn prepare(
     set: &RecordingSet,
     cfg: &FitConfig,
-    effects: StateEffects,
+    effects: &StateEffects,
     given: Option<&Coefficients<f64>>,
     progress: &dyn Progress,
-) -> Result<Round> {
+) -> Result<(FitOutcome, Coefficients<f64>, Problems)> {
     let mut base_cfg = cfg.clone();
     base_cfg.lsq.extensions = false;
     base_cfg.filter.wind = effects.wind.unwrap_or_else(Vector3::zeros);
@@ -100,11 +105,10 @@ pub(crate) fn round(
             m
         }
     };
-    let (rho, l) = (set.world.air_density, set.object.reference_length);
     let ctx = FitContext::of_set(set);
     let cols = ColumnContext {
-        air_density: rho,
-        reference_length: l,
+        air_density: set.world.air_density,
+        reference_length: set.object.reference_length,
         model: &model,
     };
     progress.stage("residual: normal equations", 1);
@@ -121,7 +125,107 @@ pub(crate) fn round(
         None => p,
     };
     progress.tick();
-    let sel = select::select(&p, rho, l, progress).ok_or_else(|| {
+    Ok((outcome, model, p))
+}
+
+/// The null calibration ([`super::null`]) of the first round: the set
+/// re-simulated [`null::DRAWS`] times with the round's model from its
+/// states (each with its own noise draw), reconstructed and fitted the
+/// same way, and each candidate's step-0 gain there. `None` (no
+/// calibration: every null bound 0) when fewer than two replicas can be
+/// made and analysed, e.g. too few takes survive.
+fn calibrate(
+    set: &RecordingSet,
+    cfg: &FitConfig,
+    outcome: &FitOutcome,
+    model: &Coefficients<f64>,
+    given: Option<&Coefficients<f64>>,
+    progress: &dyn Progress,
+) -> Option<NullCalibration> {
+    let mut draws = Vec::new();
+    for draw in 0..null::DRAWS {
+        progress.stage("residual: null replica (the set without effects)", 1);
+        let Some(replica) = null::replica(set, &outcome.reconstruction, model, draw) else {
+            continue;
+        };
+        let Ok((_, _, p)) = prepare(&replica, cfg, &StateEffects::default(), given, progress)
+        else {
+            continue;
+        };
+        draws.extend(select::null_gains(&p));
+    }
+    if draws.len() < 2 {
+        return None;
+    }
+    let n = draws.len() as f64;
+    let gains = ALL.iter().enumerate().map(|(i, c)| {
+        let g: Vec<f64> = draws
+            .iter()
+            .map(|d| d.1.get(i).copied().unwrap_or(0.0))
+            .collect();
+        (
+            c.name(),
+            NullGains {
+                bound: null::bound(&g),
+                draws: g,
+            },
+        )
+    });
+    Some(NullCalibration {
+        heldout_force_rms: draws.iter().map(|d| d.0).sum::<f64>() / n,
+        gains: gains.collect(),
+    })
+}
+
+/// One candidate's gains on the null replicas.
+#[derive(Clone, Debug, Serialize)]
+pub struct NullGains {
+    /// Its held-out force gain on each replica (step 0).
+    pub draws: Vec<f64>,
+    /// Their mean plus [`null::Z`] standard deviations ([`null::bound`]).
+    pub bound: f64,
+}
+
+/// What the null replicas gave ([`super::null`]).
+#[derive(Clone, Debug, Serialize)]
+pub struct NullCalibration {
+    /// The replicas' base model's held-out force RMS (mean), N.
+    pub heldout_force_rms: f64,
+    /// Each candidate's gains on the replicas and their bound.
+    pub gains: BTreeMap<&'static str, NullGains>,
+}
+
+impl NullCalibration {
+    /// The null bounds in the order of [`ALL`] (0 when absent).
+    fn in_order(c: Option<&Self>) -> Vec<f64> {
+        ALL.iter()
+            .map(|a| {
+                c.and_then(|c| c.gains.get(a.name()))
+                    .map_or(0.0, |g| g.bound)
+            })
+            .collect()
+    }
+}
+
+/// Runs one round with `effects` in the process model; `null` is the first
+/// round's calibration (`None` in the first round: it is made from its
+/// states, and returned in the round).
+pub(crate) fn round(
+    set: &RecordingSet,
+    cfg: &FitConfig,
+    effects: StateEffects,
+    given: Option<&Coefficients<f64>>,
+    null: Option<&Option<NullCalibration>>,
+    progress: &dyn Progress,
+) -> Result<Round> {
+    let (outcome, model, p) = prepare(set, cfg, &effects, given, progress)?;
+    let null = match null {
+        Some(n) => n.clone(),
+        None => calibrate(set, cfg, &outcome, &model, given, progress),
+    };
+    let (rho, l) = (set.world.air_density, set.object.reference_length);
+    let gains = NullCalibration::in_order(null.as_ref());
+    let sel = select::select(&p, rho, l, &gains, progress).ok_or_else(|| {
         Error::Data(format!(
             "the residual analysis needs at least {} takes with usable frames",
             crate::fit::select::MIN_TAKES
@@ -134,13 +238,16 @@ pub(crate) fn round(
         p,
         sel,
         ext,
+        null,
     })
 }
 
 /// Whether a tried candidate predicts held-out takes significantly better
-/// (gain at least [`MIN_GAIN`], sign test passed), plausible or not.
+/// (gain at least [`MIN_GAIN`] above its null gain, sign test passed),
+/// plausible or not.
 fn significant(t: &select::Tried) -> bool {
-    t.gain >= MIN_GAIN && t.takes_better.0 >= sign_threshold(t.takes_better.1)
+    t.gain - t.null_gain.max(0.0) >= MIN_GAIN
+        && t.takes_better.0 >= sign_threshold(t.takes_better.1)
 }
 
 /// The state effects round `r` points to: its wind (added to the wind it
@@ -263,7 +370,7 @@ pub(crate) fn run(
     given: Option<&Coefficients<f64>>,
     progress: &dyn Progress,
 ) -> Result<Rounds> {
-    let first = round(set, cfg, StateEffects::default(), given, progress)?;
+    let first = round(set, cfg, StateEffects::default(), given, None, progress)?;
     let mut trial = proposal(&first, true);
     let as_array = |w: Option<Vector3<f64>>| w.map(|w| [w.x, w.y, w.z]);
     let mut refit = Refit {
@@ -274,7 +381,7 @@ pub(crate) fn run(
     let mut last: Option<(Round, Option<Vector3<f64>>)> = None;
     let mut previous: Option<Steps> = None;
     while !trial.is_empty() && refit.refits < MAX_REFITS {
-        let r = round(set, cfg, trial.clone(), given, progress)?;
+        let r = round(set, cfg, trial.clone(), given, Some(&first.null), progress)?;
         refit.refits += 1;
         refit.rounds.push(summary(&r));
         let next = proposal(&r, false);

@@ -10,14 +10,13 @@
 //! markers the body's own motion).
 
 pub mod effects;
-pub(crate) mod rng;
 pub mod strength;
 pub mod taira;
 pub mod truth;
 pub mod write;
 
 use crate::error::{Error, Result};
-use crate::synth::rng::Rng;
+use crate::rng::Rng;
 use nalgebra::{Matrix3, UnitQuaternion, Vector3};
 use omniad_core::effect::EffectInputs;
 use omniad_core::reference::panel::PanelModel;

@@ -4,7 +4,7 @@
 use crate::error::{Error, Result};
 use crate::input::camera::Camera;
 use crate::input::state_csv::{self, TimeFormat};
-use crate::synth::rng::Rng;
+use crate::rng::Rng;
 use crate::synth::{random_start, simulate, truth_model, ObjectSpec, SynthConfig, SynthForces};
 use nalgebra::{Matrix3, UnitQuaternion, Vector2, Vector3};
 use omniad_core::rigid_body::AirForces;

@@ -1,4 +1,5 @@
-//! A small deterministic random generator for [`crate::synth`]
+//! A small deterministic random generator for [`crate::synth`], the
+//! residual analysis's null replicas ([`crate::residual`]) and tests
 //! (SplitMix64 and Box-Muller): the same seed gives the same set on every
 //! platform and version.
 
