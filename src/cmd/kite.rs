@@ -95,8 +95,8 @@ pub struct OptimiseArgs {
     /// Output kite file (written atomically).
     #[arg(short = 'o', long = "output")]
     pub output: PathBuf,
-    /// Largest number of designs checked.
-    #[arg(long, default_value_t = 200)]
+    /// Largest number of designs checked, shared by the three searches.
+    #[arg(long, default_value_t = omniad_kite::optimise::DEFAULT_EVALUATIONS)]
     pub evaluations: usize,
     /// Designs flown (three 60 s flights each, seeds 101-103) by the
     /// nonlinear check (default: the library's).
