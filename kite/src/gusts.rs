@@ -115,6 +115,20 @@ impl Moments {
     }
 }
 
+/// How close a motion comes to the flight's limits, as a fraction of the
+/// room at rest ([`GustReport::margin`]): 1 no motion, 0 at a limit.
+/// `elevation` and `height` are [extreme, at rest] (degrees, m), `spin`
+/// the largest |Ω| (rad/s). Each room is taken as a magnitude, so a kite
+/// resting past a limit (a line below 15° at rest) has a negative margin.
+pub(crate) fn limits_margin(elevation: [f64; 2], spin: f64, height: [f64; 2]) -> f64 {
+    let fraction = |[extreme, rest]: [f64; 2], limit: f64| {
+        (extreme - limit) / (rest - limit).abs().max(f64::MIN_POSITIVE)
+    };
+    fraction(elevation, MIN_ELEVATION_DEG)
+        .min(1.0 - spin / MAX_SPIN)
+        .min(fraction(height, GROUND_CLEARANCE))
+}
+
 /// `E[max z]` over a span holding `n = νT` up-crossings of the mean on
 /// average, `z` a unit Gaussian process: from `P(max ≤ z) ≈ Φ(z)
 /// exp(-n e^{-z²/2})` (below `z` at the start, then no up-crossing of it:
@@ -198,14 +212,11 @@ pub fn response(
     let min_elevation = low - elevation.peak(half);
     let max_spin = spun + spin_total.peak(half);
     let min_height = lowest - height.peak(opts.seconds);
-    // Each room is taken as a magnitude, so a kite resting past a limit
-    // (a line below 15° at rest) has a negative margin.
-    let fraction = |extreme: f64, rest: f64, limit: f64| {
-        (extreme - limit) / (rest - limit).abs().max(f64::MIN_POSITIVE)
-    };
-    let margin = fraction(min_elevation, at_rest, MIN_ELEVATION_DEG)
-        .min(1.0 - max_spin / MAX_SPIN)
-        .min(fraction(min_height, eq.position.z, GROUND_CLEARANCE));
+    let margin = limits_margin(
+        [min_elevation, at_rest],
+        max_spin,
+        [min_height, eq.position.z],
+    );
     GustReport {
         gust: opts.gust,
         elevation_deg: at_rest,

@@ -39,7 +39,7 @@
 //! pitched -10°, which flies in every gusty flight, drifts into the ground
 //! in it.
 
-use crate::flight_step::{Flight, FlightOptions, GROUND_CLEARANCE, MAX_SPIN, MIN_ELEVATION_DEG};
+use crate::flight_step::{Flight, FlightOptions, MAX_SPIN, MIN_ELEVATION_DEG};
 use crate::limit_cycle::{judged_seconds, LimitCycle, Recorder};
 use crate::Design;
 use anyhow::Result;
@@ -150,16 +150,14 @@ fn through(
     rec.finish(&flight, flight.time() - start)
 }
 
-/// How close a motion came to the flight's limits, as a fraction of the
-/// room at rest (as [`crate::gusts::GustReport::margin`]): 1 no motion,
-/// 0 at a limit.
+/// How close a motion came to the flight's limits
+/// ([`crate::gusts::limits_margin`]).
 fn margin(m: &LimitCycle, rest_elevation: f64, rest_height: f64) -> f64 {
-    let fraction = |extreme: f64, rest: f64, limit: f64| {
-        (extreme - limit) / (rest - limit).abs().max(f64::MIN_POSITIVE)
-    };
-    fraction(m.elevation_deg[0], rest_elevation, MIN_ELEVATION_DEG)
-        .min(1.0 - m.max_spin / MAX_SPIN)
-        .min(fraction(m.min_height, rest_height, GROUND_CLEARANCE))
+    crate::gusts::limits_margin(
+        [m.elevation_deg[0], rest_elevation],
+        m.max_spin,
+        [m.min_height, rest_height],
+    )
 }
 
 /// The discrete-gust test as one text line (`kite check`).
