@@ -44,7 +44,7 @@ use crate::residual::candidates::{Candidate, ColumnContext, ALL};
 use crate::residual::extend::{extend, Extended};
 use crate::residual::null;
 use crate::residual::problems::{self, Problems};
-use crate::residual::select::{self, sign_threshold, Selection, MIN_GAIN};
+use crate::residual::select::{self, gain_bar, sign_threshold, Selection, MIN_GAIN};
 use nalgebra::Vector3;
 use omniad_core::effect::{Effect, EffectKind};
 use omniad_core::Coefficients;
@@ -246,8 +246,7 @@ pub(crate) fn round(
 /// (gain at least [`MIN_GAIN`] above its null gain, sign test passed),
 /// plausible or not.
 fn significant(t: &select::Tried) -> bool {
-    t.gain - t.null_gain.max(0.0) >= MIN_GAIN
-        && t.takes_better.0 >= sign_threshold(t.takes_better.1)
+    t.gain >= gain_bar(t.null_gain) && t.takes_better.0 >= sign_threshold(t.takes_better.1)
 }
 
 /// The state effects round `r` points to: its wind (added to the wind it

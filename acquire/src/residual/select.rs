@@ -47,6 +47,13 @@ use nalgebra::DVector;
 /// stays as the margin for the bias the replica's smoother air lacks.
 pub const MIN_GAIN: f64 = 0.10;
 
+/// The held-out gain a candidate must reach: [`MIN_GAIN`] above its null
+/// bound. The null gain counts only upward: a candidate that loses on the
+/// replicas is not helped by it.
+pub(crate) fn gain_bar(null_gain: f64) -> f64 {
+    MIN_GAIN + null_gain.max(0.0)
+}
+
 /// Significance of the sign test across held-out takes (one-sided).
 pub const SIGN_LEVEL: f64 = 0.05;
 
@@ -306,9 +313,7 @@ fn try_candidate(
     let n = s.per_take.len();
     let (values, se) = params(p, &d, &s);
     let mut rejected = plausible(c, &values, rho, l).err();
-    // The null gain counts only upward: a candidate that loses on the
-    // replica is not helped by it.
-    let bar = MIN_GAIN + null_gain.max(0.0);
+    let bar = gain_bar(null_gain);
     if rejected.is_none() && gain < bar {
         rejected = Some(if null_gain > 0.0 {
             format!(
