@@ -67,8 +67,8 @@ pub struct Common {
     #[arg(long)]
     pub noise_floor: Option<f64>,
     /// Turn of the air's direction (rad) over which the unexplained torque
-    /// decorrelates (`FitConfig::torque_turn`; default: off).
-    #[arg(long)]
+    /// decorrelates (`FitConfig::torque_turn`; default: off). Positive.
+    #[arg(long, value_parser = positive_angle)]
     pub torque_turn: Option<f64>,
     /// Frames of the mirror-branch test (0: none).
     #[arg(long)]
@@ -187,4 +187,18 @@ pub fn run(c: &LabCommand) -> Result<()> {
         }
     };
     result.map_err(|e| anyhow::anyhow!("{e}"))
+}
+
+/// `--torque-turn`: a positive, finite angle in radians (a zero or negative
+/// turn would make the unexplained torque's correlation rate infinite or
+/// negative).
+fn positive_angle(s: &str) -> Result<f64, String> {
+    let v: f64 = s
+        .parse()
+        .map_err(|e| format!("{s:?} is not a number: {e}"))?;
+    if v.is_finite() && v > 0.0 {
+        Ok(v)
+    } else {
+        Err(format!("{s} rad: the turn must be positive and finite"))
+    }
 }
