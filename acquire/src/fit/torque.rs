@@ -46,7 +46,7 @@ impl TorqueFrames {
 /// The torque fit's normal equations per take and in total, unknowns
 /// `(β¹, β², β³, d)` (eqs. 6, 8; unweighted), from the frames `which`
 /// selects.
-fn torque_normals(
+pub(crate) fn torque_normals(
     samples: &[Sample],
     ctx: &FitContext,
     degree: usize,

@@ -9,6 +9,7 @@
 //! * [`missing_terms`]: residual analysis of terms the model lacks;
 //! * [`mixfit`]: forces or velocities — which carries the C_F error?
 //! * [`steering`]: does the steering model leak into `dΩ/dt`?
+//! * [`torquereg`]: is the torque fit's regularisation right for its noise?
 //! * [`torquesplit`]: which frames' torque error makes the C_T error?
 //! * [`truthfit`]: the fit from the true states (fit error alone).
 
@@ -19,6 +20,7 @@ pub mod forcenoise;
 pub mod missing_terms;
 pub mod mixfit;
 pub mod steering;
+pub mod torquereg;
 pub mod torquesplit;
 pub mod truthfit;
 
