@@ -29,6 +29,8 @@ pub enum LabCommand {
     Torquesplit(Set),
     /// Is the torque fit's regularisation right for its noise?
     Torquereg(Set),
+    /// The steering model's leak into dΩ/dt, measured and taken out.
+    Deleak(Set),
     /// Does the model that steered the last reconstruction leak into dΩ/dt?
     Steering(Set),
     /// The fit from the true states (fit error alone).
@@ -179,6 +181,7 @@ pub fn run(c: &LabCommand) -> Result<()> {
         LabCommand::MissingTerms(a) => lab::missing_terms::run(&a.set, &mut out),
         LabCommand::Mixfit(a) => lab::mixfit::run(&a.set, &mut out),
         LabCommand::Torquesplit(a) => lab::torquesplit::run(&a.set, &mut out),
+        LabCommand::Deleak(a) => lab::deleak::run(&a.set, &mut out),
         LabCommand::Torquereg(a) => lab::torquereg::run(&a.set, &mut out),
         LabCommand::Steering(a) => lab::steering::run(&a.set, &mut out),
         LabCommand::Truthfit(a) => {

@@ -3,6 +3,7 @@
 //! parses and prints). Most need a synthetic set's `truth/`.
 //!
 //! * [`accept`]: the acceptance numbers (state errors, C_F error);
+//! * [`deleak`]: the steering model's leak, measured and taken out;
 //! * [`depth`]: per-frame depth from the markers and its Cramér-Rao bound;
 //! * [`diag`]: reconstruction errors in the camera frame with a given model;
 //! * [`forcenoise`]: is the C_F error force noise or force bias?
@@ -14,6 +15,7 @@
 //! * [`truthfit`]: the fit from the true states (fit error alone).
 
 pub mod accept;
+pub mod deleak;
 pub mod depth;
 pub mod diag;
 pub mod forcenoise;

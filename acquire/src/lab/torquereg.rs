@@ -8,15 +8,13 @@
 //! how far the cross-validated choice is from the best a grid can do.
 use super::{say, LabResult};
 use crate::fit::context::FitContext;
-use crate::fit::damping::with_floor;
 use crate::fit::model::with_torque;
-use crate::fit::normals::{solve, Normals};
-use crate::fit::smoothing::{regularise, Smoothing};
-use crate::fit::torque::{torque_normals, torque_smoothing, TorqueFrames};
+use crate::fit::smoothing::Smoothing;
+use crate::fit::torque::{solve_torque, torque_normals, torque_smoothing, TorqueFrames};
 use crate::reconstruct::forces::Sample;
 use crate::rng::Rng;
 use crate::synth::truth::{read_coefficients, torque_directions, torque_error};
-use nalgebra::{DVector, Vector3};
+use nalgebra::Vector3;
 use omniad_core::sh::coeff_count;
 use omniad_core::Coefficients;
 use std::collections::HashMap;
@@ -42,11 +40,7 @@ pub fn run(dir: &Path, out: &mut dyn Write) -> LabResult {
             .map(|d| torque_error(m, &truth, d).0 * 100.0)
             .collect()
     };
-    let truth_d = {
-        let (beta, d) = solve_with(&w.truth_frames, &ctx, &lsq, which, None, None);
-        let _ = beta;
-        d
-    };
+    let (_, truth_d) = solve_with(&w.truth_frames, &ctx, &lsq, which, None, None);
     for (label, frames) in [
         ("reconstructed", &fit.samples),
         ("true", &w.truth_frames),
@@ -168,26 +162,9 @@ fn solve_with(
     smoothing: Option<Smoothing>,
     fixed: Option<[f64; 6]>,
 ) -> ([Vec<f64>; 3], [f64; 6]) {
-    let n = coeff_count(lsq.degree);
     let smoothing = smoothing.unwrap_or_else(|| torque_smoothing(frames, ctx, lsq, which));
     let (_, total) = torque_normals(frames, ctx, lsq.degree, which);
-    let Normals { mut ata, atb, .. } = total;
-    regularise(&mut ata, 3, lsq.degree, smoothing);
-    let six = match fixed {
-        Some(d) => d,
-        None => {
-            let x = solve(&ata, &atb);
-            with_floor(&std::array::from_fn(|i| x[3 * n + i]), lsq.damping_floor)
-        }
-    };
-    let sub = ata.view((0, 0), (3 * n, 3 * n)).into_owned();
-    let cross = ata.view((0, 3 * n), (3 * n, 6)).into_owned();
-    let rhs = atb.rows(0, 3 * n).into_owned() - cross * DVector::from_row_slice(&six);
-    let beta = solve(&sub, &rhs);
-    (
-        std::array::from_fn(|i| beta.rows(i * n, n).as_slice().to_vec()),
-        six,
-    )
+    solve_torque(total, lsq, smoothing, fixed)
 }
 
 /// β blocks of a lower degree padded with zeros to `degree`'s count.
