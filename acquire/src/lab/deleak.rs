@@ -140,15 +140,7 @@ fn scaled_torque(m: &Coefficients<f64>, k: f64) -> crate::Result<Coefficients<f6
     let n = m.coeff_count();
     let beta: [Vec<f64>; 3] =
         std::array::from_fn(|i| (0..n).map(|j| m.beta(i, j).unwrap_or(0.0) * k).collect());
-    let d = m.damping() * k;
-    let six = [
-        d[(0, 0)],
-        d[(1, 1)],
-        d[(2, 2)],
-        d[(0, 1)],
-        d[(0, 2)],
-        d[(1, 2)],
-    ];
+    let six = crate::fit::damping::six(&(m.damping() * k));
     with_torque(m, &beta, &six)
 }
 
