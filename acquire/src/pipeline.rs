@@ -90,7 +90,7 @@ pub const DEFAULT_ITERATIONS: usize = 3;
 
 impl FitConfig {
     /// The least-squares settings at the fit's SH degree.
-    fn lsq_at_degree(&self) -> LsqConfig {
+    pub(crate) fn lsq_at_degree(&self) -> LsqConfig {
         LsqConfig {
             degree: usize::from(self.degree),
             ..self.lsq.clone()

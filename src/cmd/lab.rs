@@ -27,6 +27,10 @@ pub enum LabCommand {
     Mixfit(Set),
     /// Which frames' torque error makes the C_T error?
     Torquesplit(Set),
+    /// Is the torque fit's regularisation right for its noise?
+    Torquereg(Set),
+    /// The steering model's leak into dΩ/dt, measured and taken out.
+    Deleak(Set),
     /// Does the model that steered the last reconstruction leak into dΩ/dt?
     Steering(Set),
     /// The fit from the true states (fit error alone).
@@ -177,6 +181,8 @@ pub fn run(c: &LabCommand) -> Result<()> {
         LabCommand::MissingTerms(a) => lab::missing_terms::run(&a.set, &mut out),
         LabCommand::Mixfit(a) => lab::mixfit::run(&a.set, &mut out),
         LabCommand::Torquesplit(a) => lab::torquesplit::run(&a.set, &mut out),
+        LabCommand::Deleak(a) => lab::deleak::run(&a.set, &mut out),
+        LabCommand::Torquereg(a) => lab::torquereg::run(&a.set, &mut out),
         LabCommand::Steering(a) => lab::steering::run(&a.set, &mut out),
         LabCommand::Truthfit(a) => {
             let knobs = Knobs {

@@ -30,7 +30,12 @@ pub fn positive_definite(d: &Matrix3<f64>, floor: f64) -> Matrix3<f64> {
 pub fn with_floor(raw: &[f64; 6], relative_floor: f64) -> [f64; 6] {
     let d = positive_definite(&matrix(raw), 0.0);
     let floor = relative_floor * d.symmetric_eigen().eigenvalues.max().max(1e-9);
-    let d = positive_definite(&matrix(raw), floor);
+    six(&positive_definite(&matrix(raw), floor))
+}
+
+/// `[d11, d22, d33, d12, d13, d23]` of a symmetric matrix (the inverse of
+/// [`matrix`]).
+pub fn six(d: &Matrix3<f64>) -> [f64; 6] {
     [
         d[(0, 0)],
         d[(1, 1)],

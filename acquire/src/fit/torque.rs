@@ -46,7 +46,7 @@ impl TorqueFrames {
 /// The torque fit's normal equations per take and in total, unknowns
 /// `(β¹, β², β³, d)` (eqs. 6, 8; unweighted), from the frames `which`
 /// selects.
-fn torque_normals(
+pub(crate) fn torque_normals(
     samples: &[Sample],
     ctx: &FitContext,
     degree: usize,
@@ -130,14 +130,30 @@ pub fn fit_torque(
     cfg: &LsqConfig,
     which: TorqueFrames,
 ) -> ([Vec<f64>; 3], [f64; 6], Smoothing) {
-    let n = coeff_count(cfg.degree);
     let (takes, total) = torque_normals(samples, ctx, cfg.degree, which);
     let smoothing = torque_penalty(&takes, &total, cfg);
+    let (beta, six) = solve_torque(total, cfg, smoothing, None);
+    (beta, six, smoothing)
+}
+
+/// β and D of the torque fit's normal equations `total` (unknowns
+/// `(β¹, β², β³, d)`) smoothed by `smoothing`: D fitted jointly and
+/// projected onto positive definite matrices (or fixed at `damping`),
+/// then β refitted with D fixed.
+pub(crate) fn solve_torque(
+    total: Normals,
+    cfg: &LsqConfig,
+    smoothing: Smoothing,
+    damping: Option<[f64; 6]>,
+) -> ([Vec<f64>; 3], [f64; 6]) {
+    let n = coeff_count(cfg.degree);
     let Normals { mut ata, atb, .. } = total;
     regularise(&mut ata, 3, cfg.degree, smoothing);
-    let x = solve(&ata, &atb);
-    let raw: [f64; 6] = std::array::from_fn(|i| x[3 * n + i]);
-    let six = with_floor(&raw, cfg.damping_floor);
+    let six = damping.unwrap_or_else(|| {
+        let x = solve(&ata, &atb);
+        let raw: [f64; 6] = std::array::from_fn(|i| x[3 * n + i]);
+        with_floor(&raw, cfg.damping_floor)
+    });
     // Refit beta with D fixed: move the damping term to the right-hand side.
     let sub = ata.view((0, 0), (3 * n, 3 * n)).into_owned();
     let cross = ata.view((0, 3 * n), (3 * n, 6)).into_owned();
@@ -146,7 +162,6 @@ pub fn fit_torque(
     (
         std::array::from_fn(|i| beta.rows(i * n, n).as_slice().to_vec()),
         six,
-        smoothing,
     )
 }
 

@@ -3,22 +3,26 @@
 //! parses and prints). Most need a synthetic set's `truth/`.
 //!
 //! * [`accept`]: the acceptance numbers (state errors, C_F error);
+//! * [`deleak`]: the steering model's leak, measured and taken out;
 //! * [`depth`]: per-frame depth from the markers and its Cramér-Rao bound;
 //! * [`diag`]: reconstruction errors in the camera frame with a given model;
 //! * [`forcenoise`]: is the C_F error force noise or force bias?
 //! * [`missing_terms`]: residual analysis of terms the model lacks;
 //! * [`mixfit`]: forces or velocities — which carries the C_F error?
 //! * [`steering`]: does the steering model leak into `dΩ/dt`?
+//! * [`torquereg`]: is the torque fit's regularisation right for its noise?
 //! * [`torquesplit`]: which frames' torque error makes the C_T error?
 //! * [`truthfit`]: the fit from the true states (fit error alone).
 
 pub mod accept;
+pub mod deleak;
 pub mod depth;
 pub mod diag;
 pub mod forcenoise;
 pub mod missing_terms;
 pub mod mixfit;
 pub mod steering;
+pub mod torquereg;
 pub mod torquesplit;
 pub mod truthfit;
 

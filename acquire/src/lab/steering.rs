@@ -69,7 +69,7 @@ pub fn run(dir: &Path, out: &mut dyn Write) -> LabResult {
 
 /// The model that steered the last reconstruction of a `cfg` run: the
 /// fit of the last frames of a run with one iteration fewer.
-fn steering_model(
+pub(crate) fn steering_model(
     set: &RecordingSet,
     cfg: &FitConfig,
 ) -> Result<Coefficients<f64>, Box<dyn std::error::Error>> {
