@@ -69,7 +69,7 @@ pub struct SynthArgs {
     /// ±0.5 m/s sideways (the default sets). Faster throws fly each
     /// body-frame direction at several speeds while they slow down, which
     /// is what separates a force linear in the air speed from C_F's |V|².
-    #[arg(long, value_delimiter = ',', num_args = 1)]
+    #[arg(long, value_delimiter = ',', num_args = 1, allow_hyphen_values = true)]
     pub throw_speed: Option<Vec<f64>>,
     /// Fraction of marker rows replaced by tracker jumps (outliers).
     #[arg(long, default_value_t = 0.0)]

@@ -120,6 +120,16 @@ mod tests {
     }
 
     #[test]
+    fn without_a_speed_range_a_throw_is_the_default_sets_one() {
+        let mut rng = Rng::new(3);
+        for _ in 0..200 {
+            let v = random_start(&mut rng, true, None).velocity;
+            assert!((3.0..=4.0).contains(&v.z), "vz {}", v.z);
+            assert!(v.x.abs() <= 0.5 && v.y.abs() <= 0.5, "sideways {v:?}");
+        }
+    }
+
+    #[test]
     fn impossible_throw_speeds_are_refused() {
         assert!(ThrowSpeed::new(3.0, 2.0).is_err());
         assert!(ThrowSpeed::new(-1.0, 2.0).is_err());
