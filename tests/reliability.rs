@@ -221,6 +221,9 @@ fn absurd_generator_and_panel_options_are_refused_naming_the_option() {
         &["--drops"],
     );
     fails_naming(&["synth", out, "--drops", "100000"], &["--drops"]);
+    for speeds in ["8,5", "5", "5,16", "-1,2", "nan,2", "1,2,3"] {
+        fails_naming(&["synth", out, "--throw-speed", speeds], &["--throw-speed"]);
+    }
     for size in ["0,0.5,0.02", "0.3,-0.5,0.02", "0.3,0.5,0"] {
         fails_naming(
             &[

@@ -3,7 +3,7 @@
 
 use anyhow::Result;
 use clap::{Args, ValueEnum};
-use omniad_acquire::synth::{Effect, SynthConfig, SynthObject};
+use omniad_acquire::synth::{Effect, SynthConfig, SynthObject, ThrowSpeed};
 use std::path::{Path, PathBuf};
 
 /// Object to simulate.
@@ -62,6 +62,15 @@ pub struct SynthArgs {
     /// Number of spinning throws (at most 1000).
     #[arg(long, default_value_t = 5)]
     pub spins: usize,
+    /// Release speed of the spinning throws, `MIN,MAX` m/s: each throw
+    /// leaves the hand at 1 m (the paper's K2 takes, §6) with a speed
+    /// uniform in [MIN, MAX], 45-90° above the horizon at any azimuth
+    /// (MAX at most 15 m/s). Without it a throw leaves at 3-4 m/s upward,
+    /// ±0.5 m/s sideways (the default sets). Faster throws fly each
+    /// body-frame direction at several speeds while they slow down, which
+    /// is what separates a force linear in the air speed from C_F's |V|².
+    #[arg(long, value_delimiter = ',', num_args = 1, allow_hyphen_values = true)]
+    pub throw_speed: Option<Vec<f64>>,
     /// Fraction of marker rows replaced by tracker jumps (outliers).
     #[arg(long, default_value_t = 0.0)]
     pub outliers: f64,
@@ -95,6 +104,22 @@ fn wind(w: Option<&[f64]>) -> Result<nalgebra::Vector3<f64>> {
         "--wind must be three finite components x,y,z in m/s (each at most 50)"
     );
     Ok(nalgebra::Vector3::new(w[0], w[1], w[2]))
+}
+
+/// The `--throw-speed` range (`None` when not given: the default throw).
+fn throw_speed(t: Option<&[f64]>) -> Result<Option<ThrowSpeed>> {
+    let Some(t) = t else {
+        return Ok(None);
+    };
+    let [min, max] = t else {
+        anyhow::bail!(
+            "--throw-speed must be two speeds MIN,MAX in m/s, found {} numbers",
+            t.len()
+        );
+    };
+    ThrowSpeed::new(*min, *max)
+        .map(Some)
+        .map_err(|e| anyhow::anyhow!("--throw-speed: {e}"))
 }
 
 /// Runs `omniad synth`.
@@ -137,6 +162,7 @@ pub fn run(a: &SynthArgs) -> Result<()> {
         takes: (a.drops, a.spins),
         outliers: a.outliers,
         wind: wind(a.wind.as_deref())?,
+        throw_speed: throw_speed(a.throw_speed.as_deref())?,
         ..SynthConfig::default()
     };
     let strengths =

@@ -10,14 +10,14 @@
 //! markers the body's own motion).
 
 pub mod effects;
+pub mod start;
 pub mod strength;
 pub mod taira;
 pub mod truth;
 pub mod write;
 
 use crate::error::{Error, Result};
-use crate::rng::Rng;
-use nalgebra::{Matrix3, UnitQuaternion, Vector3};
+use nalgebra::{Matrix3, Vector3};
 use omniad_core::effect::EffectInputs;
 use omniad_core::reference::panel::PanelModel;
 use omniad_core::rigid_body::{AirForces, Forces};
@@ -36,6 +36,7 @@ pub enum SynthObject {
 }
 
 pub use effects::EffectSpec as Effect;
+pub use start::{random_start, ThrowSpeed};
 
 /// Settings of a synthetic set.
 #[derive(Clone, Debug, PartialEq)]
@@ -52,6 +53,9 @@ pub struct SynthConfig {
     pub seed: u64,
     /// Number of drops (from about 6 m) and spinning throws (from 1 m).
     pub takes: (usize, usize),
+    /// Release speed of the spinning throws ([`ThrowSpeed`]); `None`
+    /// keeps the default throw (3-4 m/s straight up, ±0.5 m/s sideways).
+    pub throw_speed: Option<ThrowSpeed>,
     /// Probability that a visible marker's row is missing.
     pub dropout: f64,
     /// Probability that a row is an outlier (a tracker jump of 20-60 px).
@@ -69,6 +73,7 @@ impl Default for SynthConfig {
             noise: 0.7,
             seed: 1,
             takes: (8, 5),
+            throw_speed: None,
             dropout: 0.02,
             outliers: 0.0,
             degree: 8,
@@ -249,37 +254,4 @@ pub fn simulate(
         out.push(s);
     }
     out
-}
-
-/// A random start: drops from about 6 m, throws from 1 m spinning.
-pub fn random_start(rng: &mut Rng, spin: bool) -> State<f64> {
-    let q =
-        UnitQuaternion::from_scaled_axis(rng.direction() * rng.range(0.0, std::f64::consts::PI));
-    if spin {
-        State {
-            position: Vector3::new(
-                rng.range(-0.3, 0.3),
-                rng.range(-0.3, 0.3),
-                rng.range(0.9, 1.1),
-            ),
-            orientation: q,
-            velocity: Vector3::new(
-                rng.range(-0.5, 0.5),
-                rng.range(-0.5, 0.5),
-                rng.range(3.0, 4.0),
-            ),
-            angular_velocity: rng.direction() * rng.range(12.0, 20.0),
-        }
-    } else {
-        State {
-            position: Vector3::new(
-                rng.range(-0.5, 0.5),
-                rng.range(-0.4, 0.4),
-                rng.range(5.6, 6.4),
-            ),
-            orientation: q,
-            velocity: rng.direction() * rng.range(0.0, 0.5),
-            angular_velocity: rng.direction() * rng.range(0.0, 2.0),
-        }
-    }
 }

@@ -79,7 +79,7 @@ pub fn generate(out: &Path, cfg: &SynthConfig) -> Result<Vec<(String, f64)>> {
             &body,
             &env,
             &forces,
-            random_start(&mut rng, spin),
+            random_start(&mut rng, spin, cfg.throw_speed.as_ref()),
             camera.fps,
             400,
         );
