@@ -28,13 +28,15 @@
 //!   round) while the rounds that hold it still find it significant: it
 //!   is kept only when the refitted states confirm it (selected,
 //!   plausible);
-//! * a round is judged take by take ([`takes`]): one in which a take's
-//!   held-out error jumps while the others settle (that take's
-//!   reconstruction broke) is named and not adopted as the result.
+//! * a round is judged take by take ([`takes`]): a take whose held-out
+//!   error jumps while the others settle (its reconstruction broke in that
+//!   round) is named and left out of that round's selection, proposal and
+//!   comparison.
 //!
-//! Rounds stop when the state effects are the same as the round's own and
+//! Rounds stop when the state effects are the same as the round's own,
 //! the wind and each effect change by less than [`state::WIND_TOLERANCE`]
-//! and [`state::EFFECT_TOLERANCE`], after at most [`MAX_REFITS`] refits.
+//! and [`state::EFFECT_TOLERANCE`] and the wind no longer moves
+//! significantly, after at most [`MAX_REFITS`] refits.
 //! When no refit confirms the effects, the first round's result stands.
 //! Generic blocks (spin, gravity coupling) stay out of the process model:
 //! they are the last resort, not physics to predict with.
@@ -44,7 +46,7 @@ mod report;
 mod state;
 mod takes;
 
-use proposal::{proposal, tentative};
+use proposal::{proposal, tentative, wind_moved};
 pub(crate) use report::describe;
 use report::summary;
 pub use report::{JumpedTake, Refit, RefitRound};
@@ -102,6 +104,20 @@ fn prepare(
     base_cfg.filter.wind = effects.wind.unwrap_or_else(Vector3::zeros);
     base_cfg.effects = effects.effects.clone();
     let outcome = fit(set, &base_cfg, progress)?;
+    let (model, p) = problems_of(set, cfg, &outcome, given, &[], progress)?;
+    Ok((outcome, model, p))
+}
+
+/// The model the candidates are fitted against and the joint problems on
+/// the states of `outcome`, without the frames of the takes in `skip`.
+fn problems_of(
+    set: &RecordingSet,
+    cfg: &FitConfig,
+    outcome: &FitOutcome,
+    given: Option<&Coefficients<f64>>,
+    skip: &[usize],
+    progress: &dyn Progress,
+) -> Result<(Coefficients<f64>, Problems)> {
     let smoothing = outcome
         .iterations
         .iter()
@@ -126,8 +142,14 @@ fn prepare(
         model: &model,
     };
     progress.stage("residual: normal equations", 1);
+    let kept: Vec<_> = outcome
+        .samples
+        .iter()
+        .filter(|s| !skip.contains(&s.take))
+        .copied()
+        .collect();
     let p = problems::build(
-        &outcome.samples,
+        &kept,
         &outcome.reconstruction,
         &ctx,
         &cols,
@@ -139,7 +161,7 @@ fn prepare(
         None => p,
     };
     progress.tick();
-    Ok((outcome, model, p))
+    Ok((model, p))
 }
 
 /// The null calibration ([`super::null`]) of the first round: the set
@@ -237,15 +259,7 @@ pub(crate) fn round(
         Some(n) => n.clone(),
         None => calibrate(set, cfg, &outcome, &model, given, progress),
     };
-    let (rho, l) = (set.world.air_density, set.object.reference_length);
-    let gains = NullCalibration::in_order(null.as_ref());
-    let sel = select::select(&p, rho, l, &gains, progress).ok_or_else(|| {
-        Error::Data(format!(
-            "the residual analysis needs at least {} takes with usable frames",
-            crate::fit::select::MIN_TAKES
-        ))
-    })?;
-    let ext = extend(&p, &model, &sel.selected, cfg.lsq.damping_floor)?;
+    let (sel, ext) = select_on(set, cfg, &p, &model, null.as_ref(), progress)?;
     Ok(Round {
         effects,
         outcome,
@@ -256,14 +270,58 @@ pub(crate) fn round(
     })
 }
 
-/// Each take of round `r` (index in the set) with its base model's
-/// weighted held-out force error.
+/// The selection on `p` and its extended model.
+fn select_on(
+    set: &RecordingSet,
+    cfg: &FitConfig,
+    p: &Problems,
+    model: &Coefficients<f64>,
+    null: Option<&NullCalibration>,
+    progress: &dyn Progress,
+) -> Result<(Selection, Extended)> {
+    let (rho, l) = (set.world.air_density, set.object.reference_length);
+    let gains = NullCalibration::in_order(null);
+    let sel = select::select(p, rho, l, &gains, progress).ok_or_else(|| {
+        Error::Data(format!(
+            "the residual analysis needs at least {} takes with usable frames",
+            crate::fit::select::MIN_TAKES
+        ))
+    })?;
+    let ext = extend(p, model, &sel.selected, cfg.lsq.damping_floor)?;
+    Ok((sel, ext))
+}
+
+/// Round `r` with the takes in `skip` left out (their reconstruction broke
+/// in it, [`takes::jumps`]): the same states, the selection run again on
+/// the other takes. `r` as it is when too few takes would be left.
+fn without(
+    set: &RecordingSet,
+    cfg: &FitConfig,
+    r: Round,
+    skip: &[usize],
+    given: Option<&Coefficients<f64>>,
+    progress: &dyn Progress,
+) -> Round {
+    let again = problems_of(set, cfg, &r.outcome, given, skip, progress).and_then(|(m, p)| {
+        let (sel, ext) = select_on(set, cfg, &p, &m, r.null.as_ref(), progress)?;
+        Ok((p, sel, ext))
+    });
+    match again {
+        Ok((p, sel, ext)) => Round { p, sel, ext, ..r },
+        Err(_) => r,
+    }
+}
+
+/// Each take of round `r` (index in the set) with its selection's
+/// weighted held-out force error (the round's own model on its states:
+/// the base model's error moves take by take as much as the state effects
+/// do, the round's selection's should settle).
 fn per_take(r: &Round) -> Vec<(usize, f64)> {
     r.p.force
         .take_ids
         .iter()
         .copied()
-        .zip(r.sel.baseline.per_take.iter().copied())
+        .zip(r.sel.after.per_take.iter().copied())
         .collect()
 }
 
@@ -298,20 +356,33 @@ pub(crate) fn run(
         let r = round(set, cfg, trial.clone(), given, Some(&first.null), progress)?;
         refit.refits += 1;
         let now = per_take(&r);
-        let jumped: Vec<JumpedTake> = takes::jumps(&before, &now)
-            .into_iter()
-            .map(|j| JumpedTake {
-                take: set
-                    .takes
-                    .get(j.take)
-                    .map_or_else(|| format!("#{}", j.take), |t| t.name.clone()),
-                error: [j.before, j.after],
+        let jumps = takes::jumps(&before, &now);
+        // A take that broke is compared with its error before the jump
+        // again next round (it may stay broken).
+        before = now
+            .iter()
+            .map(|&(k, e)| {
+                jumps
+                    .iter()
+                    .find(|j| j.take == k)
+                    .map_or((k, e), |j| (k, j.before))
             })
             .collect();
-        before = now;
-        let intact = jumped.is_empty();
+        let skip: Vec<usize> = jumps.iter().map(|j| j.take).collect();
+        let r = if skip.is_empty() {
+            r
+        } else {
+            without(set, cfg, r, &skip, given, progress)
+        };
+        let jumped = jumps.iter().map(|j| JumpedTake {
+            take: set
+                .takes
+                .get(j.take)
+                .map_or_else(|| format!("#{}", j.take), |t| t.name.clone()),
+            error: [j.before, j.after],
+        });
         refit.rounds.push(RefitRound {
-            jumped_takes: jumped,
+            jumped_takes: jumped.collect(),
             ..summary(&r)
         });
         let next = proposal(&r, false);
@@ -323,10 +394,8 @@ pub(crate) fn run(
             break;
         }
         let confirmed = tentative(&r).is_empty();
-        refit.converged = confirmed && next.close_to(&trial);
-        // A round in which a take's reconstruction broke is not adopted;
-        // the last intact confirmed round (or the first) stands.
-        if confirmed && intact {
+        refit.converged = confirmed && next.close_to(&trial) && !wind_moved(&r);
+        if confirmed {
             last = Some((r, next.wind));
         } else if !confirmed && next.close_to(&trial) {
             // Settled without being kept: it will not be confirmed.

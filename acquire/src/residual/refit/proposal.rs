@@ -47,6 +47,17 @@ fn still_moving(tried: &[select::Tried]) -> Option<Vector3<f64>> {
     (helps && chi2 >= CHI2_3_95 && dw.iter().all(|x| x.is_finite())).then_some(dw)
 }
 
+/// Whether round `r` moved the wind it held: it kept the wind's increment
+/// or the increment is still significant ([`still_moving`]). Rounds do not
+/// end while it does, however small the step: a step within the
+/// tolerance that is many of its standard errors is the slow end of the
+/// rounds' contraction, not their fixed point (box `--wind 0,0.5,0`
+/// stopped at 0.42-0.46 m/s).
+pub(super) fn wind_moved(r: &Round) -> bool {
+    r.effects.wind.is_some()
+        && (r.sel.selected.contains(&Candidate::Wind) || still_moving(&r.sel.tried).is_some())
+}
+
 /// The state effects round `r` points to: its wind (added to the wind it
 /// carried) and its selected named effects, in selection order.
 pub(super) fn proposal(r: &Round, first: bool) -> StateEffects {

@@ -22,9 +22,9 @@ pub struct RefitRound {
     /// Effects it held tentatively and did not keep (not a confirmation;
     /// the rounds go on while they stay significant).
     pub tentative: Vec<&'static str>,
-    /// Takes whose reconstruction broke in this round (their base model's
-    /// held-out error jumped while the others settled, [`super::takes::jumps`]):
-    /// the round is not adopted as the result.
+    /// Takes whose reconstruction broke in this round (their held-out
+    /// error jumped while the others settled, [`super::takes::jumps`]):
+    /// left out of the round's selection and held-out figures.
     pub jumped_takes: Vec<JumpedTake>,
 }
 
@@ -33,8 +33,8 @@ pub struct RefitRound {
 pub struct JumpedTake {
     /// The take's name.
     pub take: String,
-    /// Its base model's weighted held-out force error the round before
-    /// and in this round.
+    /// Its weighted held-out force error under the round's selection, the
+    /// round before and in this round.
     pub error: [f64; 2],
 }
 
@@ -107,7 +107,7 @@ pub(crate) fn describe(r: &Refit) -> Vec<String> {
     for (i, round) in r.rounds.iter().enumerate() {
         for j in &round.jumped_takes {
             out.push(format!(
-                "In refit {i}, take {}'s held-out error jumped ({:.4} -> {:.4}) while the other takes settled: its reconstruction broke in that round, which is not adopted.",
+                "In refit {i}, take {}'s held-out error jumped ({:.4} -> {:.4}) while the other takes settled: its reconstruction broke in that round, which was analysed without it.",
                 j.take, j.error[0], j.error[1]
             ));
         }

@@ -2,16 +2,16 @@
 //! one round while the others settle.
 //!
 //! Each round reconstructs every take again with the round's process
-//! model; the base model's held-out error per take (weighted squared force
-//! error, [`crate::residual::select::Scored::per_take`]) then moves from
-//! round to round by about the same factor on every take (the state
-//! effects change all of them alike). A take whose error rises far out of
+//! model; the held-out error per take of the round's selection (weighted
+//! squared force error, [`crate::residual::select::Scored::per_take`])
+//! then moves from round to round by about the same factor on every take
+//! (the state effects change all of them alike). A take whose error rises far out of
 //! line with the others' change is that take's reconstruction failing in
 //! that round, not a property of the air (measured, plate `--wind 1,0,0`
 //! seed 2: `drop-01` alone went from 0.012 to 0.138 in the last round
 //! while the twelve others stayed at their previous values, which tripled
-//! the round's held-out force RMS). Such a round is not adopted as the
-//! result; the take is named in the report.
+//! the round's held-out force RMS, and its frames pulled the round's
+//! estimate). The take is named and the round analysed without it.
 
 use crate::residual::select::MIN_GAIN;
 
@@ -25,7 +25,7 @@ pub const OUTLIER_Z: f64 = 3.5;
 pub(crate) struct Jump {
     /// Take index in the set.
     pub take: usize,
-    /// Its base model's weighted held-out force error, the round before.
+    /// Its weighted held-out force error, the round before.
     pub before: f64,
     /// The same in this round.
     pub after: f64,
