@@ -15,7 +15,8 @@
 //! * the wind is a Gauss-Newton iteration: the wind candidate of a round
 //!   is linearised about the round's wind and its estimate is added to it;
 //!   a wind carried into a round stays when the round finds no significant
-//!   change;
+//!   change (the increment kept by the selection, or still moving by its
+//!   own jackknife uncertainty, `proposal::still_moving`);
 //! * a named effect is estimated whole on each round's states (the frames'
 //!   air wrench holds all of it) and must be selected again: a round that
 //!   does not keep every effect it held is not a confirmation. On the
@@ -23,17 +24,32 @@
 //!   significantly better ([`significant`]) but was not kept (not
 //!   positive semi-definite) is tried in the process model projected onto
 //!   PSD tensors ([`omniad_core::math::nearest_psd`]) when no named
-//!   effect was kept: it is kept only when the refitted states confirm it
-//!   (selected, plausible).
+//!   effect was kept, and carried on (tentatively, re-projected each
+//!   round) while the rounds that hold it still find it significant: it
+//!   is kept only when the refitted states confirm it (selected,
+//!   plausible);
+//! * a round is judged take by take ([`takes`]): a take whose held-out
+//!   error jumps while the others settle (its reconstruction broke in that
+//!   round) is named and left out of that round's selection, proposal and
+//!   comparison.
 //!
-//! Rounds stop when the state effects are the same as the round's own and
+//! Rounds stop when the state effects are the same as the round's own,
 //! the wind and each effect change by less than [`state::WIND_TOLERANCE`]
-//! and [`state::EFFECT_TOLERANCE`], after at most [`MAX_REFITS`] refits.
+//! and [`state::EFFECT_TOLERANCE`] and the wind no longer moves
+//! significantly, after at most [`MAX_REFITS`] refits.
 //! When no refit confirms the effects, the first round's result stands.
 //! Generic blocks (spin, gravity coupling) stay out of the process model:
 //! they are the last resort, not physics to predict with.
 
+mod proposal;
+mod report;
 mod state;
+mod takes;
+
+use proposal::{proposal, tentative, wind_moved};
+pub(crate) use report::describe;
+use report::summary;
+pub use report::{JumpedTake, Refit, RefitRound};
 
 use crate::error::{Error, Result};
 use crate::fit::context::FitContext;
@@ -44,12 +60,12 @@ use crate::residual::candidates::{Candidate, ColumnContext, ALL};
 use crate::residual::extend::{extend, Extended};
 use crate::residual::null;
 use crate::residual::problems::{self, Problems};
-use crate::residual::select::{self, gain_bar, sign_threshold, Selection, MIN_GAIN};
+use crate::residual::select::{self, Selection, MIN_GAIN};
 use nalgebra::Vector3;
-use omniad_core::effect::{Effect, EffectKind};
+use omniad_core::effect::EffectKind;
 use omniad_core::Coefficients;
 use serde::Serialize;
-use state::{accelerate, added_mass_effect, psd, steps, StateEffects, Steps};
+use state::{accelerate, steps, StateEffects, Steps};
 use std::collections::BTreeMap;
 
 /// Most refits (rounds after the first).
@@ -88,6 +104,20 @@ fn prepare(
     base_cfg.filter.wind = effects.wind.unwrap_or_else(Vector3::zeros);
     base_cfg.effects = effects.effects.clone();
     let outcome = fit(set, &base_cfg, progress)?;
+    let (model, p) = problems_of(set, cfg, &outcome, given, &[], progress)?;
+    Ok((outcome, model, p))
+}
+
+/// The model the candidates are fitted against and the joint problems on
+/// the states of `outcome`, without the frames of the takes in `skip`.
+fn problems_of(
+    set: &RecordingSet,
+    cfg: &FitConfig,
+    outcome: &FitOutcome,
+    given: Option<&Coefficients<f64>>,
+    skip: &[usize],
+    progress: &dyn Progress,
+) -> Result<(Coefficients<f64>, Problems)> {
     let smoothing = outcome
         .iterations
         .iter()
@@ -112,8 +142,14 @@ fn prepare(
         model: &model,
     };
     progress.stage("residual: normal equations", 1);
+    let kept: Vec<_> = outcome
+        .samples
+        .iter()
+        .filter(|s| !skip.contains(&s.take))
+        .copied()
+        .collect();
     let p = problems::build(
-        &outcome.samples,
+        &kept,
         &outcome.reconstruction,
         &ctx,
         &cols,
@@ -125,7 +161,7 @@ fn prepare(
         None => p,
     };
     progress.tick();
-    Ok((outcome, model, p))
+    Ok((model, p))
 }
 
 /// The null calibration ([`super::null`]) of the first round: the set
@@ -223,15 +259,7 @@ pub(crate) fn round(
         Some(n) => n.clone(),
         None => calibrate(set, cfg, &outcome, &model, given, progress),
     };
-    let (rho, l) = (set.world.air_density, set.object.reference_length);
-    let gains = NullCalibration::in_order(null.as_ref());
-    let sel = select::select(&p, rho, l, &gains, progress).ok_or_else(|| {
-        Error::Data(format!(
-            "the residual analysis needs at least {} takes with usable frames",
-            crate::fit::select::MIN_TAKES
-        ))
-    })?;
-    let ext = extend(&p, &model, &sel.selected, cfg.lsq.damping_floor)?;
+    let (sel, ext) = select_on(set, cfg, &p, &model, null.as_ref(), progress)?;
     Ok(Round {
         effects,
         outcome,
@@ -242,115 +270,59 @@ pub(crate) fn round(
     })
 }
 
-/// Whether a tried candidate predicts held-out takes significantly better
-/// (gain at least [`MIN_GAIN`] above its null gain, sign test passed),
-/// plausible or not.
-fn significant(t: &select::Tried) -> bool {
-    t.gain >= gain_bar(t.null_gain) && t.takes_better.0 >= sign_threshold(t.takes_better.1)
+/// The selection on `p` and its extended model.
+fn select_on(
+    set: &RecordingSet,
+    cfg: &FitConfig,
+    p: &Problems,
+    model: &Coefficients<f64>,
+    null: Option<&NullCalibration>,
+    progress: &dyn Progress,
+) -> Result<(Selection, Extended)> {
+    let (rho, l) = (set.world.air_density, set.object.reference_length);
+    let gains = NullCalibration::in_order(null);
+    let sel = select::select(p, rho, l, &gains, progress).ok_or_else(|| {
+        Error::Data(format!(
+            "the residual analysis needs at least {} takes with usable frames",
+            crate::fit::select::MIN_TAKES
+        ))
+    })?;
+    let ext = extend(p, model, &sel.selected, cfg.lsq.damping_floor)?;
+    Ok((sel, ext))
 }
 
-/// The state effects round `r` points to: its wind (added to the wind it
-/// carried) and its selected named effects, in selection order.
-fn proposal(r: &Round, first: bool) -> StateEffects {
-    let param = |c: Candidate| r.ext.params.iter().find(|(d, _)| *d == c).map(|x| &x.1);
-    let wind = match (param(Candidate::Wind), r.effects.wind) {
-        (Some(v), carried) => {
-            let dw = Vector3::new(v[0], v[1], v[2]);
-            Some(carried.unwrap_or_else(Vector3::zeros) + dw)
-        }
-        (None, carried) => carried,
-    };
-    let mut effects: Vec<Effect<f64>> = r
-        .sel
-        .selected
+/// Round `r` with the takes in `skip` left out (their reconstruction broke
+/// in it, [`takes::jumps`]): the same states, the selection run again on
+/// the other takes. `r` as it is when too few takes would be left.
+fn without(
+    set: &RecordingSet,
+    cfg: &FitConfig,
+    r: Round,
+    skip: &[usize],
+    given: Option<&Coefficients<f64>>,
+    progress: &dyn Progress,
+) -> Round {
+    let again = problems_of(set, cfg, &r.outcome, given, skip, progress).and_then(|(m, p)| {
+        let (sel, ext) = select_on(set, cfg, &p, &m, r.null.as_ref(), progress)?;
+        Ok((p, sel, ext))
+    });
+    match again {
+        Ok((p, sel, ext)) => Round { p, sel, ext, ..r },
+        Err(_) => r,
+    }
+}
+
+/// Each take of round `r` (index in the set) with its selection's
+/// weighted held-out force error (the round's own model on its states:
+/// the base model's error moves take by take as much as the state effects
+/// do, the round's selection's should settle).
+fn per_take(r: &Round) -> Vec<(usize, f64)> {
+    r.p.force
+        .take_ids
         .iter()
-        .enumerate()
-        .filter_map(|(step, c)| match *c {
-            // Added mass as estimated when it was kept (with alpha and the
-            // effects kept before it): later effects fitted jointly with
-            // it can share its columns (buoyancy's Rᵀg and a drop's dU/dt
-            // are nearly parallel).
-            Candidate::Named(EffectKind::AddedMass) => r
-                .sel
-                .tried
-                .iter()
-                .find(|t| t.candidate == *c && t.step == step)
-                .and_then(|t| psd(&t.params))
-                .and_then(|m| added_mass_effect(&m)),
-            // The others as the extended model's joint fit has them.
-            Candidate::Named(kind) => param(*c).and_then(|v| Effect::new(kind, v)),
-            _ => None,
-        })
-        .collect();
-    // A significant added mass that was not kept is tried only when no
-    // named effect explains the first states (generic blocks or nothing
-    // were kept): next to one that does, it is a rival explanation
-    // (isotropic added mass copies buoyancy, `identify.rs`), not a
-    // missing piece, and a refit holding both confirms neither.
-    let am = Candidate::Named(EffectKind::AddedMass);
-    if first && effects.is_empty() {
-        let implausible = r
-            .sel
-            .tried
-            .iter()
-            .find(|t| t.step == 0 && t.candidate == am && significant(t))
-            .and_then(|t| psd(&t.params))
-            .and_then(|m| added_mass_effect(&m));
-        effects.extend(implausible);
-    }
-    StateEffects { wind, effects }
-}
-
-/// One round in the report.
-#[derive(Clone, Debug, Serialize)]
-pub struct RefitRound {
-    /// The process model's wind (world, m/s), if any.
-    pub wind: Option<[f64; 3]>,
-    /// The process model's named effects and their parameters (the
-    /// library's order and units; added mass xx, yy, zz, xy, xz, yz, kg).
-    pub effects: BTreeMap<&'static str, Vec<f64>>,
-    /// The round's selection.
-    pub selected: Vec<String>,
-    /// Held-out force RMS of its base model and of its selection, N.
-    pub heldout_force_rms: [f64; 2],
-}
-
-/// What the refit did.
-#[derive(Clone, Debug, Default, Serialize)]
-pub struct Refit {
-    /// Refits run (rounds after the first).
-    pub refits: usize,
-    /// The last round's state effects agreed with what it found (within
-    /// the tolerances); false when the cap stopped the rounds or no refit
-    /// confirmed the effect.
-    pub converged: bool,
-    /// Whether a refit's states confirmed the effects (otherwise the first
-    /// round's result is reported).
-    pub confirmed: bool,
-    /// The refits held force effects only (no wind, no added mass),
-    /// confirmed them, but predicted held-out takes less than [`MIN_GAIN`]
-    /// better than the first round: the first round's result stands.
-    pub no_gain: bool,
-    /// The wind found on the states reconstructed without it (world, m/s).
-    pub wind_before_refilter: Option<[f64; 3]>,
-    /// The wind after the refits.
-    pub wind_after_refilter: Option<[f64; 3]>,
-    /// Every round, the first (no state effect) first.
-    pub rounds: Vec<RefitRound>,
-}
-
-fn summary(r: &Round) -> RefitRound {
-    RefitRound {
-        wind: r.effects.wind.map(|w| [w.x, w.y, w.z]),
-        effects: r
-            .effects
-            .effects
-            .iter()
-            .map(|e| (e.kind.name(), e.used_params().to_vec()))
-            .collect(),
-        selected: r.sel.selected.iter().map(|c| c.name().to_owned()).collect(),
-        heldout_force_rms: [r.sel.baseline.force_rms, r.sel.after.force_rms],
-    }
+        .copied()
+        .zip(r.sel.after.per_take.iter().copied())
+        .collect()
 }
 
 /// The rounds' result: the first round, the final one (`None`: the first
@@ -379,19 +351,56 @@ pub(crate) fn run(
     };
     let mut last: Option<(Round, Option<Vector3<f64>>)> = None;
     let mut previous: Option<Steps> = None;
+    let mut before = per_take(&first);
     while !trial.is_empty() && refit.refits < MAX_REFITS {
         let r = round(set, cfg, trial.clone(), given, Some(&first.null), progress)?;
         refit.refits += 1;
-        refit.rounds.push(summary(&r));
+        let now = per_take(&r);
+        let jumps = takes::jumps(&before, &now);
+        // A take that broke is compared with its error before the jump
+        // again next round (it may stay broken).
+        before = now
+            .iter()
+            .map(|&(k, e)| {
+                jumps
+                    .iter()
+                    .find(|j| j.take == k)
+                    .map_or((k, e), |j| (k, j.before))
+            })
+            .collect();
+        let skip: Vec<usize> = jumps.iter().map(|j| j.take).collect();
+        let r = if skip.is_empty() {
+            r
+        } else {
+            without(set, cfg, r, &skip, given, progress)
+        };
+        let jumped = jumps.iter().map(|j| JumpedTake {
+            take: set
+                .takes
+                .get(j.take)
+                .map_or_else(|| format!("#{}", j.take), |t| t.name.clone()),
+            error: [j.before, j.after],
+        });
+        refit.rounds.push(RefitRound {
+            jumped_takes: jumped.collect(),
+            ..summary(&r)
+        });
         let next = proposal(&r, false);
-        // An effect the refitted states do not select again is not
-        // confirmed: the last confirmed round (or the first) stands.
+        // An effect the refitted states neither select again nor (added
+        // mass, [`proposal`]) still find significant is not confirmed:
+        // the last confirmed round (or the first) stands.
         if !trial.kinds_within(&next) {
             refit.converged = false;
             break;
         }
-        refit.converged = next.close_to(&trial);
-        last = Some((r, next.wind));
+        let confirmed = tentative(&r).is_empty();
+        refit.converged = confirmed && next.close_to(&trial) && !wind_moved(&r);
+        if confirmed {
+            last = Some((r, next.wind));
+        } else if !confirmed && next.close_to(&trial) {
+            // Settled without being kept: it will not be confirmed.
+            break;
+        }
         if refit.converged {
             break;
         }
@@ -459,39 +468,4 @@ pub(crate) fn selection(
     }
     let names = params.iter().map(|(c, _)| c.name().to_owned()).collect();
     (names, params)
-}
-
-/// The refit in words.
-pub(crate) fn describe(r: &Refit) -> Vec<String> {
-    if r.rounds.len() < 2 {
-        return Vec::new();
-    }
-    let what = r.rounds.get(1).map_or_else(String::new, |x| {
-        let names = x
-            .wind
-            .iter()
-            .map(|_| "wind")
-            .chain(x.effects.keys().copied());
-        names.collect::<Vec<_>>().join(", ")
-    });
-    let mut out = vec![format!(
-        "Refit around the effect: every take was reconstructed and fitted again with the effects found ({what}) in the process model, {} time(s); {}.",
-        r.refits,
-        match (r.confirmed, r.converged) {
-            _ if r.no_gain => format!(
-                "the refitted states confirmed it but predicted held-out takes less than {:.0} % better, so the first result stands",
-                MIN_GAIN * 100.0
-            ),
-            (false, _) => "the refitted states did not confirm it, so the first result stands".into(),
-            (true, true) => "the selection and the parameters settled".into(),
-            (true, false) => "the parameters had not settled at the cap".into(),
-        }
-    )];
-    if let (Some(a), Some(b)) = (r.wind_before_refilter, r.wind_after_refilter) {
-        out.push(format!(
-            "Wind before the refilter [{:.3}, {:.3}, {:.3}] m/s, after [{:.3}, {:.3}, {:.3}] m/s.",
-            a[0], a[1], a[2], b[0], b[1], b[2]
-        ));
-    }
-    out
 }

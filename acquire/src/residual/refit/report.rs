@@ -1,0 +1,122 @@
+//! What the refit did, for the report: each round's state effects and
+//! selection, takes whose reconstruction broke, and the refit in words.
+
+use super::proposal::tentative;
+use super::Round;
+use crate::residual::select::MIN_GAIN;
+use serde::Serialize;
+use std::collections::BTreeMap;
+
+/// One round in the report.
+#[derive(Clone, Debug, Serialize)]
+pub struct RefitRound {
+    /// The process model's wind (world, m/s), if any.
+    pub wind: Option<[f64; 3]>,
+    /// The process model's named effects and their parameters (the
+    /// library's order and units; added mass xx, yy, zz, xy, xz, yz, kg).
+    pub effects: BTreeMap<&'static str, Vec<f64>>,
+    /// The round's selection.
+    pub selected: Vec<String>,
+    /// Held-out force RMS of its base model and of its selection, N.
+    pub heldout_force_rms: [f64; 2],
+    /// Effects it held tentatively and did not keep (not a confirmation;
+    /// the rounds go on while they stay significant).
+    pub tentative: Vec<&'static str>,
+    /// Takes whose reconstruction broke in this round (their held-out
+    /// error jumped while the others settled, [`super::takes::jumps`]):
+    /// left out of the round's selection and held-out figures.
+    pub jumped_takes: Vec<JumpedTake>,
+}
+
+/// A take whose held-out error jumped in a round ([`super::takes::jumps`]).
+#[derive(Clone, Debug, Serialize)]
+pub struct JumpedTake {
+    /// The take's name.
+    pub take: String,
+    /// Its weighted held-out force error under the round's selection, the
+    /// round before and in this round.
+    pub error: [f64; 2],
+}
+
+/// What the refit did.
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct Refit {
+    /// Refits run (rounds after the first).
+    pub refits: usize,
+    /// The last round's state effects agreed with what it found (within
+    /// the tolerances); false when the cap stopped the rounds or no refit
+    /// confirmed the effect.
+    pub converged: bool,
+    /// Whether a refit's states confirmed the effects (otherwise the first
+    /// round's result is reported).
+    pub confirmed: bool,
+    /// The refits held force effects only (no wind, no added mass),
+    /// confirmed them, but predicted held-out takes less than [`MIN_GAIN`]
+    /// better than the first round: the first round's result stands.
+    pub no_gain: bool,
+    /// The wind found on the states reconstructed without it (world, m/s).
+    pub wind_before_refilter: Option<[f64; 3]>,
+    /// The wind after the refits.
+    pub wind_after_refilter: Option<[f64; 3]>,
+    /// Every round, the first (no state effect) first.
+    pub rounds: Vec<RefitRound>,
+}
+
+pub(super) fn summary(r: &Round) -> RefitRound {
+    RefitRound {
+        wind: r.effects.wind.map(|w| [w.x, w.y, w.z]),
+        effects: r
+            .effects
+            .effects
+            .iter()
+            .map(|e| (e.kind.name(), e.used_params().to_vec()))
+            .collect(),
+        selected: r.sel.selected.iter().map(|c| c.name().to_owned()).collect(),
+        heldout_force_rms: [r.sel.baseline.force_rms, r.sel.after.force_rms],
+        tentative: tentative(r).iter().map(|k| k.name()).collect(),
+        jumped_takes: Vec::new(),
+    }
+}
+
+/// The refit in words.
+pub(crate) fn describe(r: &Refit) -> Vec<String> {
+    if r.rounds.len() < 2 {
+        return Vec::new();
+    }
+    let what = r.rounds.get(1).map_or_else(String::new, |x| {
+        let names = x
+            .wind
+            .iter()
+            .map(|_| "wind")
+            .chain(x.effects.keys().copied());
+        names.collect::<Vec<_>>().join(", ")
+    });
+    let mut out = vec![format!(
+        "Refit around the effect: every take was reconstructed and fitted again with the effects found ({what}) in the process model, {} time(s); {}.",
+        r.refits,
+        match (r.confirmed, r.converged) {
+            _ if r.no_gain => format!(
+                "the refitted states confirmed it but predicted held-out takes less than {:.0} % better, so the first result stands",
+                MIN_GAIN * 100.0
+            ),
+            (false, _) => "the refitted states did not confirm it, so the first result stands".into(),
+            (true, true) => "the selection and the parameters settled".into(),
+            (true, false) => "the parameters had not settled at the cap".into(),
+        }
+    )];
+    for (i, round) in r.rounds.iter().enumerate() {
+        for j in &round.jumped_takes {
+            out.push(format!(
+                "In refit {i}, take {}'s held-out error jumped ({:.4} -> {:.4}) while the other takes settled: its reconstruction broke in that round, which was analysed without it.",
+                j.take, j.error[0], j.error[1]
+            ));
+        }
+    }
+    if let (Some(a), Some(b)) = (r.wind_before_refilter, r.wind_after_refilter) {
+        out.push(format!(
+            "Wind before the refilter [{:.3}, {:.3}, {:.3}] m/s, after [{:.3}, {:.3}, {:.3}] m/s.",
+            a[0], a[1], a[2], b[0], b[1], b[2]
+        ));
+    }
+    out
+}
