@@ -57,7 +57,8 @@
 
 use crate::flight_step::{Flight, FlightOptions, GROUND_CLEARANCE, MAX_SPIN, MIN_ELEVATION_DEG};
 use crate::limit_cycle::LimitCycle;
-use crate::linearise::{perturb, InputMatrix, StateMatrix, Tangent, STATES, STEP};
+use crate::equivalent::equivalent;
+use crate::linearise::{perturb, CVector, InputMatrix, StateMatrix, Tangent, STATES, STEP};
 use crate::wind::Wind;
 use nalgebra::{Complex, SMatrix};
 use omniad_core::rigid_body::State;
@@ -70,12 +71,24 @@ pub struct GustReport {
     pub gust: f64,
     /// Line elevation at the equilibrium, degrees.
     pub elevation_deg: f64,
-    /// Standard deviation of the line elevation, degrees.
+    /// Standard deviation of the line elevation, degrees, from the model
+    /// at the gusts' amplitude ([`crate::equivalent`]; the small-gust one
+    /// when that has no stationary response or the kite is on a limit
+    /// cycle).
     pub sigma_elevation_deg: f64,
+    /// The same from the small-gust linearisation at the equilibrium,
+    /// degrees.
+    pub sigma_elevation_linear_deg: f64,
     /// Expected lowest line elevation over the judged half, degrees.
     pub min_elevation_deg: f64,
-    /// Standard deviation of `|Ω|` (norm of the body-rate deviations), rad/s.
+    /// Standard deviation of `|Ω|` (norm of the body-rate deviations),
+    /// rad/s, from the same model as `sigma_elevation_deg`.
     pub sigma_spin: f64,
+    /// The same from the small-gust linearisation, rad/s.
+    pub sigma_spin_linear: f64,
+    /// Fixed-point iterations of the equivalent linearisation; `None`:
+    /// the small-gust model was used.
+    pub equivalent_iterations: Option<usize>,
     /// Largest `|Ω|` over the judged half (expected extreme), rad/s.
     pub max_spin: f64,
     /// Lowest centre-of-mass height over the run (expected extreme), m.
@@ -165,9 +178,58 @@ fn phi(z: f64) -> f64 {
     }
 }
 
+/// The steady response of `ẋ = A x + B w` to each sinusoid of
+/// `spectrum` ([`Wind::spectrum`]): `f(component, a²/2, ω, X)` with `X =
+/// (iω - A)⁻¹ B e_c`, the complex amplitude per unit gust amplitude.
+pub(crate) fn each_response(
+    a: &StateMatrix,
+    b: &InputMatrix,
+    spectrum: &[Vec<(f64, f64)>; 3],
+    mut f: impl FnMut(usize, f64, f64, &CVector),
+) {
+    let ac = a.map(|x| Complex::new(x, 0.0));
+    for (c, modes) in spectrum.iter().enumerate() {
+        let rhs = b.column(c).map(|x| Complex::new(x, 0.0));
+        for &(amp, hz) in modes {
+            let omega = 2.0 * std::f64::consts::PI * hz;
+            let m: SMatrix<Complex<f64>, STATES, STATES> =
+                SMatrix::identity() * Complex::new(0.0, omega) - ac;
+            if let Some(x) = m.lu().solve(&rhs) {
+                f(c, amp * amp / 2.0, omega, &x);
+            }
+        }
+    }
+}
+
+/// The spectral moments of line elevation (deg), height (m) and `|Ω|`
+/// (rad/s) of `ẋ = A x + B w` under `spectrum`.
+fn moments(
+    a: &StateMatrix,
+    b: &InputMatrix,
+    spectrum: &[Vec<(f64, f64)>; 3],
+    elevation_row: &[f64; STATES],
+) -> [Moments; 3] {
+    let (mut elevation, mut height) = (Moments::default(), Moments::default());
+    let mut spin = [Moments::default(); 3];
+    each_response(a, b, spectrum, |_, power, omega, x| {
+        let e: Complex<f64> = (0..STATES).map(|k| x[k] * elevation_row[k]).sum();
+        elevation.add(e, power, omega);
+        height.add(x[2], power, omega);
+        for (k, s) in spin.iter_mut().enumerate() {
+            s.add(x[9 + k], power, omega);
+        }
+    });
+    let spin_total = Moments(
+        spin.iter().map(|s| s.0).sum(),
+        spin.iter().map(|s| s.1).sum(),
+    );
+    [elevation, height, spin_total]
+}
+
 /// The gust response about the equilibrium `eq` of the steady `flight`,
 /// with its state matrix `a` and gust input `b`, at rest there or (with
-/// `cycle`) on the limit cycle its growing mode ends in.
+/// `cycle`) on the limit cycle its growing mode ends in, to `kite fly`'s
+/// default gusts.
 pub fn response(
     flight: &Flight,
     eq: &State<f64>,
@@ -175,35 +237,33 @@ pub fn response(
     b: &InputMatrix,
     cycle: Option<&LimitCycle>,
 ) -> GustReport {
+    response_to(flight, eq, a, b, cycle, FlightOptions::default().gust)
+}
+
+/// [`response`] to gusts of strength `gust` (m/s): the model at the
+/// gusts' amplitude ([`crate::equivalent`]) for a kite at rest, the
+/// small-gust `a`, `b` for one on a limit cycle (or when the equivalent
+/// model has no stationary response).
+pub fn response_to(
+    flight: &Flight,
+    eq: &State<f64>,
+    a: &StateMatrix,
+    b: &InputMatrix,
+    cycle: Option<&LimitCycle>,
+    gust: f64,
+) -> GustReport {
     let opts = FlightOptions::default();
-    let wind = Wind::new(flight.wind_model().mean.norm(), opts.gust, 0);
+    let spectrum = Wind::new(flight.wind_model().mean.norm(), gust, 0).spectrum();
     let elevation_row = elevation_row(flight, eq);
-    let (mut elevation, mut height) = (Moments::default(), Moments::default());
-    let mut spin = [Moments::default(); 3];
-    let ac = a.map(|x| Complex::new(x, 0.0));
-    for (c, modes) in wind.spectrum().iter().enumerate() {
-        for &(amp, f) in modes {
-            let omega = 2.0 * std::f64::consts::PI * f;
-            let m: SMatrix<Complex<f64>, STATES, STATES> =
-                SMatrix::identity() * Complex::new(0.0, omega) - ac;
-            let rhs = b.column(c).map(|x| Complex::new(x, 0.0));
-            let Some(x) = m.lu().solve(&rhs) else {
-                continue;
-            };
-            let power = amp * amp / 2.0;
-            let e: Complex<f64> = (0..STATES).map(|k| x[k] * elevation_row[k]).sum();
-            elevation.add(e, power, omega);
-            height.add(x[2], power, omega);
-            for (k, s) in spin.iter_mut().enumerate() {
-                s.add(x[9 + k], power, omega);
-            }
-        }
-    }
+    let linear = moments(a, b, &spectrum, &elevation_row);
+    let eqv = cycle
+        .is_none()
+        .then(|| equivalent(flight, eq, a, b, &spectrum))
+        .flatten();
+    let [elevation, height, spin_total] = eqv
+        .as_ref()
+        .map_or(linear, |e| moments(&e.a, &e.b, &spectrum, &elevation_row));
     let half = opts.seconds / 2.0;
-    let spin_total = Moments(
-        spin.iter().map(|s| s.0).sum(),
-        spin.iter().map(|s| s.1).sum(),
-    );
     let at_rest = flight.line().elevation_deg(eq);
     // Without gusts: at rest, or the cycle's extremes.
     let (low, spun, lowest) = cycle.map_or((at_rest, 0.0, eq.position.z), |c| {
@@ -218,11 +278,14 @@ pub fn response(
         [min_height, eq.position.z],
     );
     GustReport {
-        gust: opts.gust,
+        gust,
         elevation_deg: at_rest,
         sigma_elevation_deg: elevation.0.sqrt(),
+        sigma_elevation_linear_deg: linear[0].0.sqrt(),
         min_elevation_deg: min_elevation,
         sigma_spin: spin_total.0.sqrt(),
+        sigma_spin_linear: linear[2].0.sqrt(),
+        equivalent_iterations: eqv.map(|e| e.iterations),
         max_spin,
         min_height,
         limits: [MIN_ELEVATION_DEG, MAX_SPIN, GROUND_CLEARANCE],

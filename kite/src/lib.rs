@@ -23,6 +23,7 @@ pub mod check;
 pub mod connect;
 mod design_params;
 pub mod equilibrium;
+mod equivalent;
 pub mod export;
 pub mod flight;
 mod flight_step;
