@@ -59,9 +59,15 @@ const NODES: [f64; 3] = [1.154_405_394_739_968, 2.366_759_410_734_541, 3.750_439
 const WEIGHTS: [f64; 3] = [0.240_123_178_605_013, 0.030_757_123_967_586, 0.000_548_268_855_972];
 
 /// Fixed-point iterations allowed, and the relative change of the
-/// matrices counted as converged.
+/// standard deviations the verdict uses counted as converged (the cut
+/// approximation can end in a small cycle as principal axes swap).
 const ITERATIONS: usize = 40;
-const TOLERANCE: f64 = 1e-4;
+const TOLERANCE: f64 = 5e-3;
+/// Iterates averaged when the iteration ends in a cycle, and the largest
+/// change of the spreads between them for the cycle to count (a few
+/// per cent: the model's own error is larger).
+const CYCLE: usize = 4;
+const CYCLE_SPREAD: f64 = 0.05;
 /// The fraction of each fixed-point update taken.
 const RELAXATION: f64 = 0.5;
 /// Principal axes with a spread below this (scaled units) keep the
@@ -90,15 +96,18 @@ pub(crate) fn equivalent(
     a: &StateMatrix,
     b: &InputMatrix,
     spectrum: &[Vec<(f64, f64)>; 3],
+    elevation_row: &[f64; STATES],
 ) -> Option<Equivalent> {
     let scale = scales(flight);
     let j0 = joined(a, b);
     let mut j = j0;
+    let mut before = spreads(&covariance(a, b, spectrum), elevation_row);
+    // The last iterates and their changes: a cycle is averaged.
+    let mut last: Vec<(Jacobian, f64)> = Vec::new();
     for iteration in 1..=ITERATIONS {
         let (aj, bj) = split(&j);
         let p = covariance(&aj, &bj, spectrum);
         let next = expected_jacobian(flight, eq, &j0, &p, &scale);
-        let change = (next - j).abs().max() / j0.abs().max().max(f64::MIN_POSITIVE);
         // Under-relaxed: the plain update overshoots (a wider spread
         // softens the slopes, which widen the spread less) and settles in
         // a two-cycle.
@@ -107,6 +116,13 @@ pub(crate) fn equivalent(
         if !decays(&an) {
             return None;
         }
+        let after = spreads(&covariance(&an, &bn, spectrum), elevation_row);
+        let change = before
+            .iter()
+            .zip(&after)
+            .map(|(x, y)| (x - y).abs() / x.max(*y).max(f64::MIN_POSITIVE))
+            .fold(0.0, f64::max);
+        before = after;
         if change < TOLERANCE {
             return Some(Equivalent {
                 a: an,
@@ -114,8 +130,33 @@ pub(crate) fn equivalent(
                 iterations: iteration,
             });
         }
+        last.push((j, change));
+        if last.len() > CYCLE {
+            last.remove(0);
+        }
     }
-    None
+    // No fixed point: a small cycle (its spreads within CYCLE_SPREAD)
+    // stands for its mean, a larger one for nothing.
+    if last.iter().any(|(_, c)| !(*c < CYCLE_SPREAD)) {
+        return None;
+    }
+    let mean = last.iter().fold(Jacobian::zeros(), |m, (j, _)| m + j) / last.len() as f64;
+    let (a, b) = split(&mean);
+    decays(&a).then_some(Equivalent {
+        a,
+        b,
+        iterations: ITERATIONS,
+    })
+}
+
+/// The standard deviations the verdict uses, from the covariance `p`:
+/// line elevation (row `elevation_row`), height, `|Ω|`.
+fn spreads(p: &Joint, elevation_row: &[f64; STATES]) -> [f64; 3] {
+    let r = SVector::<f64, STATES>::from_column_slice(elevation_row);
+    let pxx = p.fixed_view::<STATES, STATES>(0, 0);
+    let elevation = (r.transpose() * pxx * r)[(0, 0)];
+    let spin = p[(9, 9)] + p[(10, 10)] + p[(11, 11)];
+    [elevation, p[(2, 2)], spin].map(|v| v.max(0.0).sqrt())
 }
 
 /// Every eigenvalue of `a` has a negative real part.

@@ -124,8 +124,46 @@ impl Moments {
             return 0.0;
         }
         let rate = (self.1 / self.0).sqrt() / (2.0 * std::f64::consts::PI);
-        sigma * expected_max(rate * span)
+        sigma * design_peak(rate * span)
     }
+}
+
+/// Independent gusty flights the verdict speaks for: `kite fly` on seeds
+/// 1-3, as issue 17's acceptance flies every design.
+pub const RUNS: i32 = 3;
+
+/// The peak factor the verdict uses for a span of `n = νT` mean
+/// up-crossings (module doc).
+fn design_peak(n: f64) -> f64 {
+    match std::env::var("KDF_STAT").as_deref() {
+        Ok("worst3") => quantile_of_max(n, RUNS, 0.5),
+        _ => expected_max(n),
+    }
+}
+
+/// `P(max z ≤ level)` over a span holding `n = νT` up-crossings of the
+/// mean on average, `z` a unit Gaussian process: below the level at the
+/// start, then no up-crossing of it (Rice's rate `n e^{-z²/2}`, crossings
+/// as a Poisson stream).
+fn max_below(level: f64, n: f64) -> f64 {
+    phi(level) * (-n * (-level * level / 2.0).exp()).exp()
+}
+
+/// The level the largest of `runs` spans of `n` mean up-crossings each
+/// stays below with probability `p`, by bisection (`max_below` increases
+/// with the level).
+fn quantile_of_max(n: f64, runs: i32, p: f64) -> f64 {
+    let target = p.powf(1.0 / f64::from(runs));
+    let (mut lo, mut hi) = (-8.0f64, 12.0f64);
+    for _ in 0..60 {
+        let mid = (lo + hi) / 2.0;
+        if max_below(mid, n) < target {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    (lo + hi) / 2.0
 }
 
 /// How close a motion comes to the flight's limits, as a fraction of the
@@ -256,9 +294,8 @@ pub fn response_to(
     let spectrum = Wind::new(flight.wind_model().mean.norm(), gust, 0).spectrum();
     let elevation_row = elevation_row(flight, eq);
     let linear = moments(a, b, &spectrum, &elevation_row);
-    let eqv = cycle
-        .is_none()
-        .then(|| equivalent(flight, eq, a, b, &spectrum))
+    let eqv = (cycle.is_none() && std::env::var_os("KDF_LINEAR").is_none())
+        .then(|| equivalent(flight, eq, a, b, &spectrum, &elevation_row))
         .flatten();
     let [elevation, height, spin_total] = eqv
         .as_ref()
