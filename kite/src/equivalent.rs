@@ -101,12 +101,11 @@ pub(crate) fn equivalent(
     let scale = scales(flight);
     let j0 = joined(a, b);
     let mut j = j0;
-    let mut before = spreads(&covariance(a, b, spectrum), elevation_row);
+    let mut p = covariance(a, b, spectrum);
+    let mut before = spreads(&p, elevation_row);
     // The last iterates and their changes: a cycle is averaged.
     let mut last: Vec<(Jacobian, f64)> = Vec::new();
     for iteration in 1..=ITERATIONS {
-        let (aj, bj) = split(&j);
-        let p = covariance(&aj, &bj, spectrum);
         let next = expected_jacobian(flight, eq, &j0, &p, &scale);
         // Under-relaxed: the plain update overshoots (a wider spread
         // softens the slopes, which widen the spread less) and settles in
@@ -116,7 +115,8 @@ pub(crate) fn equivalent(
         if !decays(&an) {
             return None;
         }
-        let after = spreads(&covariance(&an, &bn, spectrum), elevation_row);
+        p = covariance(&an, &bn, spectrum);
+        let after = spreads(&p, elevation_row);
         let change = before
             .iter()
             .zip(&after)

@@ -11,7 +11,15 @@
 //!
 //! Model: `ẋ = A x + B w`, `A` the state matrix and `B = ∂ẋ/∂w` the gust
 //! input ([`crate::linearise`]), `w` the gust of [`crate::wind`] at the
-//! default strength `G` of `kite fly` ([`FlightOptions::default`]). That
+//! default strength `G` of `kite fly` ([`FlightOptions::default`]). `A`
+//! and `B` are taken at the gusts' amplitude: the equivalent (statistical)
+//! linearisation of [`crate::equivalent`], the expected slopes over the
+//! Gaussian spread of state and gust that they drive; the slopes at the
+//! equilibrium over-predict the swing at G = 1 m/s by 10-45 % (box-three-
+//! cell, fig15-a with the string 10 cm higher: 16.5° and 16.0° linear,
+//! 13.3° and 11.3° equivalent, 11.7° and 10.9° flown; BENCHMARKS, issue
+//! 17, stop 19). A kite on a limit cycle, or whose equivalent model has a
+//! mode that does not decay, keeps the small-gust `A`, `B`. That
 //! gust is a sum of sinusoids whose amplitudes `a_k` (at frequencies
 //! `f_k`) do not depend on the seed, so in steady state every output `y =
 //! C x` (line elevation, the body rates, height) has the exact spectral
@@ -21,7 +29,7 @@
 //! Gaussian process crossing its mean `νT` times in the span, `ν =
 //! √(m_2/m_0)/2π` (S. O. Rice, "Mathematical analysis of random noise",
 //! 1944-45), from the distribution of the span's largest value
-//! `P(max ≤ z) ≈ Φ(z) exp(-νT e^{-z²/2})` (see [`expected_max`]). The
+//! `P(max ≤ z) ≈ Φ(z) exp(-νT e^{-z²/2})` (see [`design_peak`]). The
 //! gusts are dominated by periods of 30-100 s (Λ/U = 6 s), so within the
 //! 30 s the flight judges the slow part is nearly an offset: `g` is then
 //! well below Davenport's many-crossing `√(2 ln νT) + 0.5772/√(2 ln νT)`
@@ -29,17 +37,19 @@
 //! judges: the second half of the run for elevation and spin, the whole
 //! run for the ground.
 //!
-//! Which extreme: the expected extreme of one run, `E[max z]`
-//! ([`expected_max`]). The median of the worst of three runs (the level a
-//! kite flown on three seeds stays inside with probability 1/2) was
-//! measured and not kept (BENCHMARKS, issue 17, kv2): the linear response
-//! over-predicts the flown elevation swing at the 1 m/s gusts (10.6°
-//! flown against 14.8° predicted, pooled rms), so on the linear `σ` the
-//! stricter peak factor refused nine variants that fly on seeds 1-3 while
-//! it fixed four (35 disagreements against 4). The expected extreme on the
-//! over-predicted `σ` (1.3-1.5 `σ_lin` ≈ 1.9-2.1 flown `σ`) sits near the
-//! worst-of-three median of the flown response; an amplitude-dependent
-//! linearisation would let the verdict use that statistic directly.
+//! Which extreme: the issue's claim is design-level — `stable` when the
+//! kite flies on every one of the [`RUNS`] seeds it is flown on (issue 17:
+//! seeds 1-3), each an independent draw of the gusts' phases. The decision
+//! that errs least is `stable` when P(all fly) > 1/2, so the extreme is the
+//! median of the worst of [`RUNS`] runs: the level `z` with `P(max ≤
+//! z)^RUNS = 1/2` ([`design_peak`]; 2.1-2.2 `σ` for these kites' `νT ≈ 2`).
+//! It was measured and not kept on the small-gust `σ` (BENCHMARKS, issue
+//! 17, kv2: that `σ` over-predicts the flown swing by ~1.4x at 1 m/s, and
+//! the stricter tail then refused nine variants that fly on seeds 1-3);
+//! on the `σ` at the gusts' amplitude it is kept (stop 19: 4 design-level
+//! disagreements on seeds 1-3 as before, 8 / 11 / 29 on the held-out seed
+//! triples 4-6 / 7-9 / 10-12 against 16 / 19 / 37 for one run's expected
+//! extreme on the small-gust `σ`).
 //!
 //! The spin `|Ω|` is taken as the norm of the three body rates: its `σ`
 //! is `√(Σ m_0)` and it is given the same peak factor (an approximation:
@@ -79,7 +89,8 @@ pub struct GustReport {
     /// The same from the small-gust linearisation at the equilibrium,
     /// degrees.
     pub sigma_elevation_linear_deg: f64,
-    /// Expected lowest line elevation over the judged half, degrees.
+    /// Lowest line elevation over the judged half at the verdict's
+    /// statistic ([`design_peak`]), degrees.
     pub min_elevation_deg: f64,
     /// Standard deviation of `|Ω|` (norm of the body-rate deviations),
     /// rad/s, from the same model as `sigma_elevation_deg`.
@@ -89,9 +100,10 @@ pub struct GustReport {
     /// Fixed-point iterations of the equivalent linearisation; `None`:
     /// the small-gust model was used.
     pub equivalent_iterations: Option<usize>,
-    /// Largest `|Ω|` over the judged half (expected extreme), rad/s.
+    /// Largest `|Ω|` over the judged half (the verdict's extreme,
+    /// [`design_peak`]), rad/s.
     pub max_spin: f64,
-    /// Lowest centre-of-mass height over the run (expected extreme), m.
+    /// Lowest centre-of-mass height over the run (the same statistic), m.
     pub min_height: f64,
     /// The limits the flight judges by: elevation, degrees; spin, rad/s;
     /// height, m.
@@ -116,8 +128,8 @@ impl Moments {
         self.1 += p * omega * omega;
     }
 
-    /// The expected largest excursion over `span` seconds, `σ E[ẑ]`
-    /// ([`expected_max`]).
+    /// The largest excursion over `span` seconds at the verdict's
+    /// statistic, `σ ẑ` ([`design_peak`]).
     fn peak(self, span: f64) -> f64 {
         let sigma = self.0.sqrt();
         if !(sigma > 0.0) {
@@ -135,10 +147,7 @@ pub const RUNS: i32 = 3;
 /// The peak factor the verdict uses for a span of `n = νT` mean
 /// up-crossings (module doc).
 fn design_peak(n: f64) -> f64 {
-    match std::env::var("KDF_STAT").as_deref() {
-        Ok("worst3") => quantile_of_max(n, RUNS, 0.5),
-        _ => expected_max(n),
-    }
+    quantile_of_max(n, RUNS, 0.5)
 }
 
 /// `P(max z ≤ level)` over a span holding `n = νT` up-crossings of the
@@ -178,25 +187,6 @@ pub(crate) fn limits_margin(elevation: [f64; 2], spin: f64, height: [f64; 2]) ->
     fraction(elevation, MIN_ELEVATION_DEG)
         .min(1.0 - spin / MAX_SPIN)
         .min(fraction(height, GROUND_CLEARANCE))
-}
-
-/// `E[max z]` over a span holding `n = νT` up-crossings of the mean on
-/// average, `z` a unit Gaussian process: from `P(max ≤ z) ≈ Φ(z)
-/// exp(-n e^{-z²/2})` (below `z` at the start, then no up-crossing of it:
-/// Rice's rate, Poisson crossings), `E = ∫₀^∞ (1 - P) dz - ∫_{-∞}^0 P dz`.
-/// It is 0 for a process too slow to change within the span and tends to
-/// Davenport's `√(2 ln n) + 0.5772/√(2 ln n)` for many crossings.
-fn expected_max(n: f64) -> f64 {
-    const DZ: f64 = 0.005;
-    // Midpoint rule: no sample falls on the jump of the integrand at 0.
-    let mut e = 0.0;
-    let mut z = -8.0 + DZ / 2.0;
-    while z < 10.0 {
-        let p = phi(z) * (-n * (-z * z / 2.0).exp()).exp();
-        e += if z > 0.0 { 1.0 - p } else { -p } * DZ;
-        z += DZ;
-    }
-    e
 }
 
 /// The unit normal distribution function `Φ(z)` (Abramowitz & Stegun
@@ -294,7 +284,8 @@ pub fn response_to(
     let spectrum = Wind::new(flight.wind_model().mean.norm(), gust, 0).spectrum();
     let elevation_row = elevation_row(flight, eq);
     let linear = moments(a, b, &spectrum, &elevation_row);
-    let eqv = (cycle.is_none() && std::env::var_os("KDF_LINEAR").is_none())
+    let eqv = cycle
+        .is_none()
         .then(|| equivalent(flight, eq, a, b, &spectrum, &elevation_row))
         .flatten();
     let [elevation, height, spin_total] = eqv
@@ -333,7 +324,7 @@ pub fn response_to(
 
 /// The largest gust (m/s from the mean) of `wind`'s `component` (0
 /// along-wind, 1 crosswind, 2 vertical) over `span` seconds at the
-/// verdict's statistic (the expected extreme, [`expected_max`]), counting only its sinusoids up
+/// verdict's statistic ([`design_peak`]), counting only its sinusoids up
 /// to `max_hz`: their spectral moments and Rice's peak factor, as for the
 /// kite's outputs. The spectrum is symmetric, so the deepest lull is as
 /// large.
@@ -383,15 +374,25 @@ mod tests {
 
     #[test]
     fn peak_factor_limits() {
-        // Too slow to change within the span: the expected value, 0.
-        assert!(expected_max(0.0).abs() < 1e-3, "{}", expected_max(0.0));
-        // Many crossings: Davenport's asymptote.
+        // Too slow to change within the span: the median of one Gaussian
+        // value is 0, of the largest of three Φ⁻¹(2^{-1/3}) = 0.82.
+        assert!(quantile_of_max(0.0, 1, 0.5).abs() < 1e-6);
+        assert!(
+            (design_peak(0.0) - 0.8193).abs() < 1e-3,
+            "{}",
+            design_peak(0.0)
+        );
+        // Many crossings: Φ ≈ 1 and the Gumbel median √(2 ln(R n / ln 2)).
         let n: f64 = 1e4;
-        let l = (2.0 * n.ln()).sqrt();
-        let davenport = l + 0.5772 / l;
-        assert!((expected_max(n) - davenport).abs() < 0.05 * davenport);
-        // More crossings, larger extremes.
-        assert!(expected_max(1.0) < expected_max(10.0));
+        let gumbel = (2.0 * (f64::from(RUNS) * n / 2f64.ln()).ln()).sqrt();
+        assert!((design_peak(n) - gumbel).abs() < 1e-3 * gumbel);
+        // R runs of n crossings are one run of R n when Φ ≈ 1.
+        let one = quantile_of_max(f64::from(RUNS) * n, 1, 0.5);
+        assert!((design_peak(n) - one).abs() < 1e-3);
+        // More crossings, more runs, a higher confidence: larger extremes.
+        assert!(design_peak(1.0) < design_peak(10.0));
+        assert!(quantile_of_max(3.0, 1, 0.5) < design_peak(3.0));
+        assert!(design_peak(3.0) < quantile_of_max(3.0, RUNS, 0.9));
     }
 
     #[test]
