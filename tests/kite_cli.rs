@@ -375,7 +375,15 @@ fn optimise_without_flights_says_not_flown() {
     let dir = std::env::temp_dir().join(format!("omniad-kite-cli-noflight-{}", std::process::id()));
     std::fs::create_dir_all(&dir).expect("tmp");
     let out = omniad()
-        .args(["kite", "optimise", "--evaluations", "2", "--flown", "0", "-o"])
+        .args([
+            "kite",
+            "optimise",
+            "--evaluations",
+            "2",
+            "--flown",
+            "0",
+            "-o",
+        ])
         .arg(dir.join("opt.toml"))
         .arg(kite("box-three-cell"))
         .output()

@@ -40,8 +40,8 @@
 //! world m/s.
 
 use crate::flight_step::Flight;
-use crate::gusts::each_response;
 use crate::linearise::{InputMatrix, StateMatrix, Tangent, INPUTS, STATES};
+use crate::spectral::each_response;
 use nalgebra::{SMatrix, SVector, UnitQuaternion, Vector3};
 use omniad_core::rigid_body::State;
 
@@ -55,8 +55,16 @@ type Jacobian = SMatrix<f64, STATES, Z>;
 /// the 7-point rule, exact for polynomials up to degree 13 under the unit
 /// Gaussian; the centre node has weight 0.457 and drops out of the odd
 /// moment `E[f(ξ) ξ]`).
-const NODES: [f64; 3] = [1.154_405_394_739_968, 2.366_759_410_734_541, 3.750_439_717_725_742];
-const WEIGHTS: [f64; 3] = [0.240_123_178_605_013, 0.030_757_123_967_586, 0.000_548_268_855_972];
+const NODES: [f64; 3] = [
+    1.154_405_394_739_968,
+    2.366_759_410_734_541,
+    3.750_439_717_725_742,
+];
+const WEIGHTS: [f64; 3] = [
+    0.240_123_178_605_013,
+    0.030_757_123_967_586,
+    0.000_548_268_855_972,
+];
 
 /// Fixed-point iterations allowed, and the relative change of the
 /// standard deviations the verdict uses counted as converged (the cut
@@ -307,4 +315,3 @@ mod tests {
         }
     }
 }
-

@@ -65,12 +65,13 @@
 //! lowest elevation and height minus the gust's peak, largest spin plus
 //! it (an upper bound: the two need not peak together).
 
+use crate::equivalent::equivalent;
 use crate::flight_step::{Flight, FlightOptions, GROUND_CLEARANCE, MAX_SPIN, MIN_ELEVATION_DEG};
 use crate::limit_cycle::LimitCycle;
-use crate::equivalent::equivalent;
-use crate::linearise::{perturb, CVector, InputMatrix, StateMatrix, Tangent, STATES, STEP};
+use crate::linearise::{perturb, InputMatrix, StateMatrix, Tangent, STATES, STEP};
+use crate::spectral::each_response;
 use crate::wind::Wind;
-use nalgebra::{Complex, SMatrix};
+use nalgebra::Complex;
 use omniad_core::rigid_body::State;
 use serde::Serialize;
 
@@ -203,29 +204,6 @@ fn phi(z: f64) -> f64 {
         1.0 - tail
     } else {
         tail
-    }
-}
-
-/// The steady response of `ẋ = A x + B w` to each sinusoid of
-/// `spectrum` ([`Wind::spectrum`]): `f(component, a²/2, ω, X)` with `X =
-/// (iω - A)⁻¹ B e_c`, the complex amplitude per unit gust amplitude.
-pub(crate) fn each_response(
-    a: &StateMatrix,
-    b: &InputMatrix,
-    spectrum: &[Vec<(f64, f64)>; 3],
-    mut f: impl FnMut(usize, f64, f64, &CVector),
-) {
-    let ac = a.map(|x| Complex::new(x, 0.0));
-    for (c, modes) in spectrum.iter().enumerate() {
-        let rhs = b.column(c).map(|x| Complex::new(x, 0.0));
-        for &(amp, hz) in modes {
-            let omega = 2.0 * std::f64::consts::PI * hz;
-            let m: SMatrix<Complex<f64>, STATES, STATES> =
-                SMatrix::identity() * Complex::new(0.0, omega) - ac;
-            if let Some(x) = m.lu().solve(&rhs) {
-                f(c, amp * amp / 2.0, omega, &x);
-            }
-        }
     }
 }
 

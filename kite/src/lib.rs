@@ -45,6 +45,7 @@ mod search_moves;
 mod settle;
 pub mod sockets;
 pub mod spec;
+mod spectral;
 pub mod strong_gust;
 mod tether;
 mod toml_writer;
