@@ -29,7 +29,7 @@
 //! Gaussian process crossing its mean `νT` times in the span, `ν =
 //! √(m_2/m_0)/2π` (S. O. Rice, "Mathematical analysis of random noise",
 //! 1944-45), from the distribution of the span's largest value
-//! `P(max ≤ z) ≈ Φ(z) exp(-νT e^{-z²/2})` (see [`design_peak`]). The
+//! `P(max ≤ z) ≈ Φ(z) exp(-νT e^{-z²/2})` (see [`expected_max`]). The
 //! gusts are dominated by periods of 30-100 s (Λ/U = 6 s), so within the
 //! 30 s the flight judges the slow part is nearly an offset: `g` is then
 //! well below Davenport's many-crossing `√(2 ln νT) + 0.5772/√(2 ln νT)`
@@ -37,19 +37,22 @@
 //! judges: the second half of the run for elevation and spin, the whole
 //! run for the ground.
 //!
-//! Which extreme: the issue's claim is design-level — `stable` when the
-//! kite flies on every one of the [`RUNS`] seeds it is flown on (issue 17:
-//! seeds 1-3), each an independent draw of the gusts' phases. The decision
-//! that errs least is `stable` when P(all fly) > 1/2, so the extreme is the
-//! median of the worst of [`RUNS`] runs: the level `z` with `P(max ≤
-//! z)^RUNS = 1/2` ([`design_peak`]; 2.1-2.2 `σ` for these kites' `νT ≈ 2`).
-//! It was measured and not kept on the small-gust `σ` (BENCHMARKS, issue
-//! 17, kv2: that `σ` over-predicts the flown swing by ~1.4x at 1 m/s, and
-//! the stricter tail then refused nine variants that fly on seeds 1-3);
-//! on the `σ` at the gusts' amplitude it is kept (stop 19: 4 design-level
-//! disagreements on seeds 1-3 as before, 8 / 11 / 29 on the held-out seed
-//! triples 4-6 / 7-9 / 10-12 against 16 / 19 / 37 for one run's expected
-//! extreme on the small-gust `σ`).
+//! Which extreme: the expected extreme of one run, `E[max z]`
+//! ([`expected_max`]), on the `σ` at the gusts' amplitude. Two readings of
+//! issue 17's "stable exactly when it flies on seeds 1-3" were measured
+//! (BENCHMARKS, issue 17, stop 19; 108 variants, seeds 1-12 as four
+//! triples). Design-level (stable vs flies on all three) favours the median
+//! of the worst of three runs (4 / 8 / 11 / 29 disagreements against 4 /
+//! 16 / 19 / 37). Flight by flight, a design whose seeds disagree among
+//! themselves fails whatever the verdict, so the only errors a verdict can
+//! avoid are refusing a kite that flies on all three and passing one that
+//! crashes on all three: the expected extreme makes none on any triple, the
+//! worst-of-three median four on seeds 1-3 (kites that fly on 1-3, and on
+//! 7-9 of the twelve seeds). The per-flight reading is the acceptance's
+//! wording, so the expected extreme is kept. The `σ` at the gusts'
+//! amplitude gives the same verdict as the small-gust `σ` on every one of
+//! the 108 variants with this statistic; it is kept because its margins are
+//! the flown swing's (the small-gust `σ` over-predicts by up to 1.5x).
 //!
 //! The spin `|Ω|` is taken as the norm of the three body rates: its `σ`
 //! is `√(Σ m_0)` and it is given the same peak factor (an approximation:
@@ -91,7 +94,7 @@ pub struct GustReport {
     /// degrees.
     pub sigma_elevation_linear_deg: f64,
     /// Lowest line elevation over the judged half at the verdict's
-    /// statistic ([`design_peak`]), degrees.
+    /// statistic ([`expected_max`]), degrees.
     pub min_elevation_deg: f64,
     /// Standard deviation of `|Ω|` (norm of the body-rate deviations),
     /// rad/s, from the same model as `sigma_elevation_deg`.
@@ -102,7 +105,7 @@ pub struct GustReport {
     /// the small-gust model was used.
     pub equivalent_iterations: Option<usize>,
     /// Largest `|Ω|` over the judged half (the verdict's extreme,
-    /// [`design_peak`]), rad/s.
+    /// [`expected_max`]), rad/s.
     pub max_spin: f64,
     /// Lowest centre-of-mass height over the run (the same statistic), m.
     pub min_height: f64,
@@ -130,50 +133,34 @@ impl Moments {
     }
 
     /// The largest excursion over `span` seconds at the verdict's
-    /// statistic, `σ ẑ` ([`design_peak`]).
+    /// statistic, `σ ẑ` ([`expected_max`]).
     fn peak(self, span: f64) -> f64 {
         let sigma = self.0.sqrt();
         if !(sigma > 0.0) {
             return 0.0;
         }
         let rate = (self.1 / self.0).sqrt() / (2.0 * std::f64::consts::PI);
-        sigma * design_peak(rate * span)
+        sigma * expected_max(rate * span)
     }
 }
 
-/// Independent gusty flights the verdict speaks for: `kite fly` on seeds
-/// 1-3, as issue 17's acceptance flies every design.
-pub const RUNS: i32 = 3;
-
-/// The peak factor the verdict uses for a span of `n = νT` mean
-/// up-crossings (module doc).
-fn design_peak(n: f64) -> f64 {
-    quantile_of_max(n, RUNS, 0.5)
-}
-
-/// `P(max z ≤ level)` over a span holding `n = νT` up-crossings of the
-/// mean on average, `z` a unit Gaussian process: below the level at the
-/// start, then no up-crossing of it (Rice's rate `n e^{-z²/2}`, crossings
-/// as a Poisson stream).
-fn max_below(level: f64, n: f64) -> f64 {
-    phi(level) * (-n * (-level * level / 2.0).exp()).exp()
-}
-
-/// The level the largest of `runs` spans of `n` mean up-crossings each
-/// stays below with probability `p`, by bisection (`max_below` increases
-/// with the level).
-fn quantile_of_max(n: f64, runs: i32, p: f64) -> f64 {
-    let target = p.powf(1.0 / f64::from(runs));
-    let (mut lo, mut hi) = (-8.0f64, 12.0f64);
-    for _ in 0..60 {
-        let mid = (lo + hi) / 2.0;
-        if max_below(mid, n) < target {
-            lo = mid;
-        } else {
-            hi = mid;
-        }
+/// `E[max z]` over a span holding `n = νT` up-crossings of the mean on
+/// average, `z` a unit Gaussian process: from `P(max ≤ z) ≈ Φ(z)
+/// exp(-n e^{-z²/2})` (below `z` at the start, then no up-crossing of it:
+/// Rice's rate, Poisson crossings), `E = ∫₀^∞ (1 - P) dz - ∫_{-∞}^0 P dz`.
+/// It is 0 for a process too slow to change within the span and tends to
+/// Davenport's `√(2 ln n) + 0.5772/√(2 ln n)` for many crossings.
+fn expected_max(n: f64) -> f64 {
+    const DZ: f64 = 0.005;
+    // Midpoint rule: no sample falls on the jump of the integrand at 0.
+    let mut e = 0.0;
+    let mut z = -8.0 + DZ / 2.0;
+    while z < 10.0 {
+        let p = phi(z) * (-n * (-z * z / 2.0).exp()).exp();
+        e += if z > 0.0 { 1.0 - p } else { -p } * DZ;
+        z += DZ;
     }
-    (lo + hi) / 2.0
+    e
 }
 
 /// How close a motion comes to the flight's limits, as a fraction of the
@@ -302,7 +289,7 @@ pub fn response_to(
 
 /// The largest gust (m/s from the mean) of `wind`'s `component` (0
 /// along-wind, 1 crosswind, 2 vertical) over `span` seconds at the
-/// verdict's statistic ([`design_peak`]), counting only its sinusoids up
+/// verdict's statistic ([`expected_max`]), counting only its sinusoids up
 /// to `max_hz`: their spectral moments and Rice's peak factor, as for the
 /// kite's outputs. The spectrum is symmetric, so the deepest lull is as
 /// large.
@@ -352,25 +339,15 @@ mod tests {
 
     #[test]
     fn peak_factor_limits() {
-        // Too slow to change within the span: the median of one Gaussian
-        // value is 0, of the largest of three Φ⁻¹(2^{-1/3}) = 0.82.
-        assert!(quantile_of_max(0.0, 1, 0.5).abs() < 1e-6);
-        assert!(
-            (design_peak(0.0) - 0.8193).abs() < 1e-3,
-            "{}",
-            design_peak(0.0)
-        );
-        // Many crossings: Φ ≈ 1 and the Gumbel median √(2 ln(R n / ln 2)).
+        // Too slow to change within the span: the expected value, 0.
+        assert!(expected_max(0.0).abs() < 1e-3, "{}", expected_max(0.0));
+        // Many crossings: Davenport's asymptote.
         let n: f64 = 1e4;
-        let gumbel = (2.0 * (f64::from(RUNS) * n / 2f64.ln()).ln()).sqrt();
-        assert!((design_peak(n) - gumbel).abs() < 1e-3 * gumbel);
-        // R runs of n crossings are one run of R n when Φ ≈ 1.
-        let one = quantile_of_max(f64::from(RUNS) * n, 1, 0.5);
-        assert!((design_peak(n) - one).abs() < 1e-3);
-        // More crossings, more runs, a higher confidence: larger extremes.
-        assert!(design_peak(1.0) < design_peak(10.0));
-        assert!(quantile_of_max(3.0, 1, 0.5) < design_peak(3.0));
-        assert!(design_peak(3.0) < quantile_of_max(3.0, RUNS, 0.9));
+        let l = (2.0 * n.ln()).sqrt();
+        let davenport = l + 0.5772 / l;
+        assert!((expected_max(n) - davenport).abs() < 0.05 * davenport);
+        // More crossings, larger extremes.
+        assert!(expected_max(1.0) < expected_max(10.0));
     }
 
     #[test]

@@ -31,8 +31,8 @@
 //! 6. the gusts of `kite fly` keep it inside the flight's limits on every
 //!    one of the seeds it is flown on: the gust response's extremes of
 //!    line elevation, spin and height (the model linearised at the gusts'
-//!    amplitude, [`crate::equivalent`]; extremes at the median of the worst
-//!    of three runs, [`crate::gusts`]), and the nonlinear flight through
+//!    amplitude, [`crate::equivalent`]; one run's expected extremes,
+//!    [`crate::gusts`]), and the nonlinear flight through
 //!    the largest gusts and lulls of each wind component at the same
 //!    statistic ([`crate::strong_gust`]) — else `gust_sensitive`.
 
