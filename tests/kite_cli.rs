@@ -360,10 +360,39 @@ fn optimise_turns_a_kite_to_the_face_that_meets_the_wind() {
     let turned = (yaw["after"].as_f64().unwrap_or(0.0) - yaw["before"].as_f64().unwrap_or(0.0))
         .rem_euclid(180.0);
     assert!((turned - 90.0).abs() < 45.0 + 1e-9, "{yaw}");
+    // Nothing was flown (`--flown 0`): no flight margin, not a NaN.
+    assert!(v["flight_margin"].is_null(), "{v}");
     // The file written has inline rod ends and loads back.
     let written = std::fs::read_to_string(&out_file).expect("written");
     assert!(!written.contains("[rod."), "{written}");
     checks_and_cleans(&dir, &out_file);
+}
+
+/// `kite optimise --flown 0` says in words that the check flights were not
+/// flown (it printed "margin NaN").
+#[test]
+fn optimise_without_flights_says_not_flown() {
+    let dir = std::env::temp_dir().join(format!("omniad-kite-cli-noflight-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("tmp");
+    let out = omniad()
+        .args([
+            "kite",
+            "optimise",
+            "--evaluations",
+            "2",
+            "--flown",
+            "0",
+            "-o",
+        ])
+        .arg(dir.join("opt.toml"))
+        .arg(kite("box-three-cell"))
+        .output()
+        .expect("run");
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let report = text(&out.stdout);
+    assert!(report.contains("not flown"), "{report}");
+    assert!(!report.contains("NaN"), "{report}");
+    let _ = std::fs::remove_dir_all(dir);
 }
 
 /// Issue 17 acceptance: `kite optimise` turns three different bundled

@@ -8,6 +8,13 @@
 //! outcome, `*` where it disagrees) and the count of disagreements;
 //! `WHY=1` prints each disagreement's flight (mean and lowest elevation,
 //! largest spin) on stderr.
+//!
+//! Held-out seeds (kv2's method, BENCHMARKS issue 17): `SEEDS=12` flies
+//! seeds 1-12 and adds, per seed triple (1-3, 4-6, ...), the design-level
+//! disagreements (verdict `stable` against "flies on all three seeds of
+//! the triple"). `FLIGHTS=FILE` keeps each flight's outcome in FILE (one
+//! `name<TAB>variant<TAB>seed<TAB>outcome` line), so a second run with a
+//! changed verdict flies nothing again (the flights do not depend on it).
 
 use omniad_kite::{check, flight, spec::StringSpec, Design, Library};
 
@@ -40,8 +47,50 @@ fn variants(d: &Design) -> anyhow::Result<Vec<(String, Design)>> {
     Ok(out)
 }
 
+/// Flight outcomes by `name\tvariant\tseed`.
+type Cache = std::collections::BTreeMap<String, String>;
+
+fn load_cache(path: Option<&std::path::Path>) -> anyhow::Result<Cache> {
+    let Some(path) = path.filter(|p| p.exists()) else {
+        return Ok(Cache::new());
+    };
+    let text = std::fs::read_to_string(path)?;
+    Ok(text
+        .lines()
+        .filter_map(|l| l.rsplit_once('\t'))
+        .map(|(k, v)| (k.to_string(), v.to_string()))
+        .collect())
+}
+
+/// The outcome of `v` on `seed`, from the cache or flown (and cached).
+fn outcome(cache: &mut Cache, key: String, v: &Design, seed: u64) -> (String, String) {
+    if let Some(o) = cache.get(&key) {
+        return (o.clone(), "cached".into());
+    }
+    let opts = flight::FlightOptions {
+        seed,
+        ..Default::default()
+    };
+    let (o, why) = match flight::fly(v, &opts) {
+        Ok(f) => (
+            format!("{:?}", f.outcome).to_lowercase(),
+            format!(
+                "{} (elev mean {:.0}°, min {:.0}°, spin <= {:.1})",
+                f.reason, f.mean_elevation_deg, f.min_elevation_deg, f.max_spin
+            ),
+        ),
+        Err(e) => ("crashes".to_string(), format!("{e}")),
+    };
+    cache.insert(key, o.clone());
+    (o, why)
+}
+
 fn main() -> anyhow::Result<()> {
     let files: Vec<String> = std::env::args().skip(1).collect();
+    let seeds: u64 = std::env::var("SEEDS").map_or(Ok(3), |s| s.parse())?;
+    let cache_path = std::env::var_os("FLIGHTS").map(std::path::PathBuf::from);
+    let mut cache = load_cache(cache_path.as_deref())?;
+    let mut triples = vec![0usize; (seeds / 3) as usize];
     let library = Library::load(&omniad_kite::library::default_dir())?;
     let (mut total, mut bad, mut stable, mut flies) = (0, 0, 0, 0);
     for path in &files {
@@ -61,21 +110,14 @@ fn main() -> anyhow::Result<()> {
                 "{:<22} {label:<12} {verdict:<20} {growth:+.3} {gust:<9}",
                 design.spec.name
             );
-            for seed in 1..=3 {
-                let opts = flight::FlightOptions {
-                    seed,
-                    ..Default::default()
-                };
-                let (outcome, why) = match flight::fly(&v, &opts) {
-                    Ok(f) => (
-                        format!("{:?}", f.outcome).to_lowercase(),
-                        format!(
-                            "{} (elev mean {:.0}°, min {:.0}°, spin <= {:.1})",
-                            f.reason, f.mean_elevation_deg, f.min_elevation_deg, f.max_spin
-                        ),
-                    ),
-                    Err(e) => ("crashes".to_string(), format!("{e}")),
-                };
+            let mut flew = Vec::new();
+            for seed in 1..=seeds {
+                let key = format!("{}\t{label}\t{seed}", design.spec.name);
+                let (outcome, why) = outcome(&mut cache, key, &v, seed);
+                flew.push(outcome == "flies");
+                if seed > 3 {
+                    continue;
+                }
                 total += 1;
                 stable += usize::from(verdict == "stable");
                 flies += usize::from(outcome == "flies");
@@ -86,9 +128,22 @@ fn main() -> anyhow::Result<()> {
                 }
                 row += &format!(" {outcome:<8}{}", if agree { " " } else { "*" });
             }
+            for (t, chunk) in flew.chunks(3).enumerate() {
+                let all = chunk.len() == 3 && chunk.iter().all(|f| *f);
+                if let Some(n) = triples.get_mut(t) {
+                    *n += usize::from(all != (verdict == "stable"));
+                }
+            }
             println!("{row}");
         }
     }
     println!("{bad} of {total} flights disagree ({stable} called stable, {flies} flew)");
+    if seeds > 3 {
+        println!("design-level disagreements per seed triple (1-3, 4-6, ...): {triples:?}");
+    }
+    if let Some(path) = cache_path {
+        let text: String = cache.iter().map(|(k, v)| format!("{k}\t{v}\n")).collect();
+        omniad_io::write_atomic(&path, text.as_bytes())?;
+    }
     Ok(())
 }

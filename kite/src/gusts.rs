@@ -11,7 +11,15 @@
 //!
 //! Model: `ẋ = A x + B w`, `A` the state matrix and `B = ∂ẋ/∂w` the gust
 //! input ([`crate::linearise`]), `w` the gust of [`crate::wind`] at the
-//! default strength `G` of `kite fly` ([`FlightOptions::default`]). That
+//! default strength `G` of `kite fly` ([`FlightOptions::default`]). `A`
+//! and `B` are taken at the gusts' amplitude: the equivalent (statistical)
+//! linearisation of [`crate::equivalent`], the expected slopes over the
+//! Gaussian spread of state and gust that they drive; the slopes at the
+//! equilibrium over-predict the swing at G = 1 m/s by 10-45 % (box-three-
+//! cell, fig15-a with the string 10 cm higher: 16.5° and 16.0° linear,
+//! 13.3° and 11.3° equivalent, 11.7° and 10.9° flown; BENCHMARKS, issue
+//! 17, stop 19). A kite on a limit cycle, or whose equivalent model has a
+//! mode that does not decay, keeps the small-gust `A`, `B`. That
 //! gust is a sum of sinusoids whose amplitudes `a_k` (at frequencies
 //! `f_k`) do not depend on the seed, so in steady state every output `y =
 //! C x` (line elevation, the body rates, height) has the exact spectral
@@ -30,16 +38,21 @@
 //! run for the ground.
 //!
 //! Which extreme: the expected extreme of one run, `E[max z]`
-//! ([`expected_max`]). The median of the worst of three runs (the level a
-//! kite flown on three seeds stays inside with probability 1/2) was
-//! measured and not kept (BENCHMARKS, issue 17, kv2): the linear response
-//! over-predicts the flown elevation swing at the 1 m/s gusts (10.6°
-//! flown against 14.8° predicted, pooled rms), so on the linear `σ` the
-//! stricter peak factor refused nine variants that fly on seeds 1-3 while
-//! it fixed four (35 disagreements against 4). The expected extreme on the
-//! over-predicted `σ` (1.3-1.5 `σ_lin` ≈ 1.9-2.1 flown `σ`) sits near the
-//! worst-of-three median of the flown response; an amplitude-dependent
-//! linearisation would let the verdict use that statistic directly.
+//! ([`expected_max`]), on the `σ` at the gusts' amplitude. Two readings of
+//! issue 17's "stable exactly when it flies on seeds 1-3" were measured
+//! (BENCHMARKS, issue 17, stop 19; 108 variants, seeds 1-12 as four
+//! triples). Design-level (stable vs flies on all three) favours the median
+//! of the worst of three runs (4 / 8 / 11 / 29 disagreements against 4 /
+//! 16 / 19 / 37). Flight by flight, a design whose seeds disagree among
+//! themselves fails whatever the verdict, so the only errors a verdict can
+//! avoid are refusing a kite that flies on all three and passing one that
+//! crashes on all three: the expected extreme makes none on any triple, the
+//! worst-of-three median four on seeds 1-3 (kites that fly on 1-3, and on
+//! 7-9 of the twelve seeds). The per-flight reading is the acceptance's
+//! wording, so the expected extreme is kept. The `σ` at the gusts'
+//! amplitude gives the same verdict as the small-gust `σ` on every one of
+//! the 108 variants with this statistic; it is kept because its margins are
+//! the flown swing's (the small-gust `σ` over-predicts by up to 1.5x).
 //!
 //! The spin `|Ω|` is taken as the norm of the three body rates: its `σ`
 //! is `√(Σ m_0)` and it is given the same peak factor (an approximation:
@@ -55,11 +68,13 @@
 //! lowest elevation and height minus the gust's peak, largest spin plus
 //! it (an upper bound: the two need not peak together).
 
+use crate::equivalent::equivalent;
 use crate::flight_step::{Flight, FlightOptions, GROUND_CLEARANCE, MAX_SPIN, MIN_ELEVATION_DEG};
 use crate::limit_cycle::LimitCycle;
 use crate::linearise::{perturb, InputMatrix, StateMatrix, Tangent, STATES, STEP};
+use crate::spectral::each_response;
 use crate::wind::Wind;
-use nalgebra::{Complex, SMatrix};
+use nalgebra::Complex;
 use omniad_core::rigid_body::State;
 use serde::Serialize;
 
@@ -70,15 +85,29 @@ pub struct GustReport {
     pub gust: f64,
     /// Line elevation at the equilibrium, degrees.
     pub elevation_deg: f64,
-    /// Standard deviation of the line elevation, degrees.
+    /// Standard deviation of the line elevation, degrees, from the model
+    /// at the gusts' amplitude ([`crate::equivalent`]; the small-gust one
+    /// when that has no stationary response or the kite is on a limit
+    /// cycle).
     pub sigma_elevation_deg: f64,
-    /// Expected lowest line elevation over the judged half, degrees.
+    /// The same from the small-gust linearisation at the equilibrium,
+    /// degrees.
+    pub sigma_elevation_linear_deg: f64,
+    /// Lowest line elevation over the judged half at the verdict's
+    /// statistic ([`expected_max`]), degrees.
     pub min_elevation_deg: f64,
-    /// Standard deviation of `|Ω|` (norm of the body-rate deviations), rad/s.
+    /// Standard deviation of `|Ω|` (norm of the body-rate deviations),
+    /// rad/s, from the same model as `sigma_elevation_deg`.
     pub sigma_spin: f64,
-    /// Largest `|Ω|` over the judged half (expected extreme), rad/s.
+    /// The same from the small-gust linearisation, rad/s.
+    pub sigma_spin_linear: f64,
+    /// Fixed-point iterations of the equivalent linearisation; `None`:
+    /// the small-gust model was used.
+    pub equivalent_iterations: Option<usize>,
+    /// Largest `|Ω|` over the judged half (the verdict's extreme,
+    /// [`expected_max`]), rad/s.
     pub max_spin: f64,
-    /// Lowest centre-of-mass height over the run (expected extreme), m.
+    /// Lowest centre-of-mass height over the run (the same statistic), m.
     pub min_height: f64,
     /// The limits the flight judges by: elevation, degrees; spin, rad/s;
     /// height, m.
@@ -103,8 +132,8 @@ impl Moments {
         self.1 += p * omega * omega;
     }
 
-    /// The expected largest excursion over `span` seconds, `σ E[ẑ]`
-    /// ([`expected_max`]).
+    /// The largest excursion over `span` seconds at the verdict's
+    /// statistic, `σ ẑ` ([`expected_max`]).
     fn peak(self, span: f64) -> f64 {
         let sigma = self.0.sqrt();
         if !(sigma > 0.0) {
@@ -113,20 +142,6 @@ impl Moments {
         let rate = (self.1 / self.0).sqrt() / (2.0 * std::f64::consts::PI);
         sigma * expected_max(rate * span)
     }
-}
-
-/// How close a motion comes to the flight's limits, as a fraction of the
-/// room at rest ([`GustReport::margin`]): 1 no motion, 0 at a limit.
-/// `elevation` and `height` are [extreme, at rest] (degrees, m), `spin`
-/// the largest |Ω| (rad/s). Each room is taken as a magnitude, so a kite
-/// resting past a limit (a line below 15° at rest) has a negative margin.
-pub(crate) fn limits_margin(elevation: [f64; 2], spin: f64, height: [f64; 2]) -> f64 {
-    let fraction = |[extreme, rest]: [f64; 2], limit: f64| {
-        (extreme - limit) / (rest - limit).abs().max(f64::MIN_POSITIVE)
-    };
-    fraction(elevation, MIN_ELEVATION_DEG)
-        .min(1.0 - spin / MAX_SPIN)
-        .min(fraction(height, GROUND_CLEARANCE))
 }
 
 /// `E[max z]` over a span holding `n = νT` up-crossings of the mean on
@@ -148,6 +163,20 @@ fn expected_max(n: f64) -> f64 {
     e
 }
 
+/// How close a motion comes to the flight's limits, as a fraction of the
+/// room at rest ([`GustReport::margin`]): 1 no motion, 0 at a limit.
+/// `elevation` and `height` are [extreme, at rest] (degrees, m), `spin`
+/// the largest |Ω| (rad/s). Each room is taken as a magnitude, so a kite
+/// resting past a limit (a line below 15° at rest) has a negative margin.
+pub(crate) fn limits_margin(elevation: [f64; 2], spin: f64, height: [f64; 2]) -> f64 {
+    let fraction = |[extreme, rest]: [f64; 2], limit: f64| {
+        (extreme - limit) / (rest - limit).abs().max(f64::MIN_POSITIVE)
+    };
+    fraction(elevation, MIN_ELEVATION_DEG)
+        .min(1.0 - spin / MAX_SPIN)
+        .min(fraction(height, GROUND_CLEARANCE))
+}
+
 /// The unit normal distribution function `Φ(z)` (Abramowitz & Stegun
 /// 7.1.26 for erfc, absolute error below 1.5e-7).
 fn phi(z: f64) -> f64 {
@@ -165,9 +194,35 @@ fn phi(z: f64) -> f64 {
     }
 }
 
+/// The spectral moments of line elevation (deg), height (m) and `|Ω|`
+/// (rad/s) of `ẋ = A x + B w` under `spectrum`.
+fn moments(
+    a: &StateMatrix,
+    b: &InputMatrix,
+    spectrum: &[Vec<(f64, f64)>; 3],
+    elevation_row: &[f64; STATES],
+) -> [Moments; 3] {
+    let (mut elevation, mut height) = (Moments::default(), Moments::default());
+    let mut spin = [Moments::default(); 3];
+    each_response(a, b, spectrum, |_, power, omega, x| {
+        let e: Complex<f64> = (0..STATES).map(|k| x[k] * elevation_row[k]).sum();
+        elevation.add(e, power, omega);
+        height.add(x[2], power, omega);
+        for (k, s) in spin.iter_mut().enumerate() {
+            s.add(x[9 + k], power, omega);
+        }
+    });
+    let spin_total = Moments(
+        spin.iter().map(|s| s.0).sum(),
+        spin.iter().map(|s| s.1).sum(),
+    );
+    [elevation, height, spin_total]
+}
+
 /// The gust response about the equilibrium `eq` of the steady `flight`,
 /// with its state matrix `a` and gust input `b`, at rest there or (with
-/// `cycle`) on the limit cycle its growing mode ends in.
+/// `cycle`) on the limit cycle its growing mode ends in, to `kite fly`'s
+/// default gusts.
 pub fn response(
     flight: &Flight,
     eq: &State<f64>,
@@ -175,35 +230,33 @@ pub fn response(
     b: &InputMatrix,
     cycle: Option<&LimitCycle>,
 ) -> GustReport {
+    response_to(flight, eq, a, b, cycle, FlightOptions::default().gust)
+}
+
+/// [`response`] to gusts of strength `gust` (m/s): the model at the
+/// gusts' amplitude ([`crate::equivalent`]) for a kite at rest, the
+/// small-gust `a`, `b` for one on a limit cycle (or when the equivalent
+/// model has no stationary response).
+pub fn response_to(
+    flight: &Flight,
+    eq: &State<f64>,
+    a: &StateMatrix,
+    b: &InputMatrix,
+    cycle: Option<&LimitCycle>,
+    gust: f64,
+) -> GustReport {
     let opts = FlightOptions::default();
-    let wind = Wind::new(flight.wind_model().mean.norm(), opts.gust, 0);
+    let spectrum = Wind::new(flight.wind_model().mean.norm(), gust, 0).spectrum();
     let elevation_row = elevation_row(flight, eq);
-    let (mut elevation, mut height) = (Moments::default(), Moments::default());
-    let mut spin = [Moments::default(); 3];
-    let ac = a.map(|x| Complex::new(x, 0.0));
-    for (c, modes) in wind.spectrum().iter().enumerate() {
-        for &(amp, f) in modes {
-            let omega = 2.0 * std::f64::consts::PI * f;
-            let m: SMatrix<Complex<f64>, STATES, STATES> =
-                SMatrix::identity() * Complex::new(0.0, omega) - ac;
-            let rhs = b.column(c).map(|x| Complex::new(x, 0.0));
-            let Some(x) = m.lu().solve(&rhs) else {
-                continue;
-            };
-            let power = amp * amp / 2.0;
-            let e: Complex<f64> = (0..STATES).map(|k| x[k] * elevation_row[k]).sum();
-            elevation.add(e, power, omega);
-            height.add(x[2], power, omega);
-            for (k, s) in spin.iter_mut().enumerate() {
-                s.add(x[9 + k], power, omega);
-            }
-        }
-    }
+    let linear = moments(a, b, &spectrum, &elevation_row);
+    let eqv = cycle
+        .is_none()
+        .then(|| equivalent(flight, eq, a, b, &spectrum, &elevation_row))
+        .flatten();
+    let [elevation, height, spin_total] = eqv
+        .as_ref()
+        .map_or(linear, |e| moments(&e.a, &e.b, &spectrum, &elevation_row));
     let half = opts.seconds / 2.0;
-    let spin_total = Moments(
-        spin.iter().map(|s| s.0).sum(),
-        spin.iter().map(|s| s.1).sum(),
-    );
     let at_rest = flight.line().elevation_deg(eq);
     // Without gusts: at rest, or the cycle's extremes.
     let (low, spun, lowest) = cycle.map_or((at_rest, 0.0, eq.position.z), |c| {
@@ -218,11 +271,14 @@ pub fn response(
         [min_height, eq.position.z],
     );
     GustReport {
-        gust: opts.gust,
+        gust,
         elevation_deg: at_rest,
         sigma_elevation_deg: elevation.0.sqrt(),
+        sigma_elevation_linear_deg: linear[0].0.sqrt(),
         min_elevation_deg: min_elevation,
         sigma_spin: spin_total.0.sqrt(),
+        sigma_spin_linear: linear[2].0.sqrt(),
+        equivalent_iterations: eqv.map(|e| e.iterations),
         max_spin,
         min_height,
         limits: [MIN_ELEVATION_DEG, MAX_SPIN, GROUND_CLEARANCE],
@@ -233,7 +289,7 @@ pub fn response(
 
 /// The largest gust (m/s from the mean) of `wind`'s `component` (0
 /// along-wind, 1 crosswind, 2 vertical) over `span` seconds at the
-/// verdict's statistic (the expected extreme, [`expected_max`]), counting only its sinusoids up
+/// verdict's statistic ([`expected_max`]), counting only its sinusoids up
 /// to `max_hz`: their spectral moments and Rice's peak factor, as for the
 /// kite's outputs. The spectrum is symmetric, so the deepest lull is as
 /// large.

@@ -145,8 +145,9 @@ pub struct OptimiseReport {
     /// (empty when no stable design was found to fly).
     pub check_flights: Vec<Outcome>,
     /// Their worst [`crate::trial_flights::flight_margin`] (positive:
-    /// flies on all; NaN when not flown).
-    pub flight_margin: f64,
+    /// flies on all); `None` (JSON `null`) when nothing was flown
+    /// (`--flown 0`, or no stable design found).
+    pub flight_margin: Option<f64>,
     /// Stable candidates flown on the check seeds (three flights each).
     pub candidates_flown: usize,
     /// The best design's kite file.
@@ -240,7 +241,7 @@ pub fn optimise(
             .flown
             .as_ref()
             .map_or(Vec::new(), |f| f.outcomes.clone()),
-        flight_margin: checked.flown.as_ref().map_or(f64::NAN, |f| f.margin),
+        flight_margin: checked.flown.as_ref().map(|f| f.margin),
         candidates_flown: checked.candidates_flown,
         search: checked.search,
         refined_by_flights: checked.refined,
@@ -351,12 +352,17 @@ pub fn render(r: &OptimiseReport) -> String {
     };
     out += &format!("  result from search \"{}\"{refined}\n", r.search);
     let names = |f: &[Outcome]| f.iter().map(|o| o.name()).collect::<Vec<_>>().join(", ");
-    out += &format!(
-        "  check flights (60 s, 1 m/s gusts, seeds 101-103; {} candidates flown): {} (margin {:+.2})\n",
-        r.candidates_flown,
-        names(&r.check_flights),
-        r.flight_margin
-    );
+    out += &match r.flight_margin {
+        Some(m) => format!(
+            "  check flights (60 s, 1 m/s gusts, seeds 101-103; {} candidates flown): {} (margin {m:+.2})\n",
+            r.candidates_flown,
+            names(&r.check_flights),
+        ),
+        None => format!(
+            "  check flights (60 s, 1 m/s gusts, seeds 101-103): not flown ({} candidates flown)\n",
+            r.candidates_flown
+        ),
+    };
     out += &format!(
         "  result flown 60 s in 1 m/s gusts, seeds 1-3: {}\n",
         names(&r.flights)

@@ -29,11 +29,12 @@
 //!    `stable` means the kite rests, or circles on a small limit cycle
 //!    (`modes.limit_cycle` in the JSON says which), inside the limits;
 //! 6. the gusts of `kite fly` keep it inside the flight's limits on every
-//!    one of the seeds it is flown on: the linear gust response's extremes
-//!    of line elevation, spin and height (their expected extremes,
-//!    [`crate::gusts`]), and the nonlinear
-//!    flight through the largest expected gusts and lulls of each wind
-//!    component ([`crate::strong_gust`]) — else `gust_sensitive`.
+//!    one of the seeds it is flown on: the gust response's extremes of
+//!    line elevation, spin and height (the model linearised at the gusts'
+//!    amplitude, [`crate::equivalent`]; one run's expected extremes,
+//!    [`crate::gusts`]), and the nonlinear flight through
+//!    the largest gusts and lulls of each wind component at the same
+//!    statistic ([`crate::strong_gust`]) — else `gust_sensitive`.
 
 use serde::Serialize;
 
