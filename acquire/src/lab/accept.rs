@@ -6,13 +6,12 @@
 
 use super::Knobs;
 use super::{say, LabResult};
-use crate::fit::torque::TorqueFrames;
 use crate::input::recording::RecordingSet;
 use crate::input::state_csv::read_states;
 use crate::pipeline;
 use crate::reconstruct::run::Silent;
 use crate::synth::truth::{
-    fitted_directions, force_error, read_coefficients, state_error, torque_directions,
+    fitted_directions, force_error, read_coefficients, state_error, torque_direction_sets,
     torque_error, StateError,
 };
 use std::io::Write;
@@ -129,21 +128,13 @@ fn torque_scores(
 ) -> LabResult {
     let states = crate::synth::truth::true_trajectories(dir, set)?;
     let true_frames = crate::reconstruct::run::samples(set, &states, &mut Default::default());
-    let sets = [
-        (
-            "torque-fit frames",
-            torque_directions(&fit.samples, fit.torque_frames),
-        ),
-        (
-            "stable frames",
-            torque_directions(&fit.samples, TorqueFrames::Stable),
-        ),
-        (
-            "true states' stable frames, common",
-            torque_directions(&true_frames, TorqueFrames::Stable),
-        ),
+    let sets = torque_direction_sets(&fit.samples, fit.torque_frames, &true_frames);
+    let labels = [
+        "torque-fit frames",
+        "stable frames",
+        "true states' stable frames, common",
     ];
-    for (i, (label, dirs)) in sets.iter().enumerate() {
+    for (i, (label, dirs)) in labels.iter().zip(&sets).enumerate() {
         let (err, n) = torque_error(&fit.model, truth, dirs);
         let head = if i == 0 {
             "C_T relative L2 error"

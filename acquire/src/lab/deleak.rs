@@ -15,7 +15,7 @@ use crate::fit::torque::{dense_rows, solve_torque, torque_smoothing, TorqueFrame
 use crate::pipeline;
 use crate::reconstruct::forces::{ForceStats, Sample};
 use crate::reconstruct::run::{refine_takes, samples, Silent, TakeModels};
-use crate::synth::truth::{read_coefficients, torque_directions, torque_error};
+use crate::synth::truth::{read_coefficients, torque_direction_sets, torque_error};
 use nalgebra::Vector3;
 use omniad_core::sh::coeff_count;
 use omniad_core::Coefficients;
@@ -86,11 +86,7 @@ fn study(
         })
         .collect();
     let which = TorqueFrames::NoThrust;
-    let sets = [
-        torque_directions(&a_frames, which),
-        torque_directions(&a_frames, TorqueFrames::Stable),
-        torque_directions(&w.truth_frames, TorqueFrames::Stable),
-    ];
+    let sets = torque_direction_sets(&a_frames, which, &w.truth_frames);
     let score = |m: &Coefficients<f64>| -> Vec<f64> {
         sets.iter()
             .map(|d| torque_error(m, truth, d).0 * 100.0)

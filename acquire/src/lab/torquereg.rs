@@ -13,7 +13,7 @@ use crate::fit::smoothing::Smoothing;
 use crate::fit::torque::{solve_torque, torque_normals, torque_smoothing, TorqueFrames};
 use crate::reconstruct::forces::Sample;
 use crate::rng::Rng;
-use crate::synth::truth::{read_coefficients, torque_directions, torque_error};
+use crate::synth::truth::{read_coefficients, torque_direction_sets, torque_error};
 use nalgebra::Vector3;
 use omniad_core::sh::coeff_count;
 use omniad_core::Coefficients;
@@ -29,11 +29,7 @@ pub fn run(dir: &Path, out: &mut dyn Write) -> LabResult {
     let ctx = FitContext::of_set(set);
     let lsq = cfg.lsq_at_degree();
     let which = fit.torque_frames;
-    let sets = [
-        torque_directions(&fit.samples, which),
-        torque_directions(&fit.samples, TorqueFrames::Stable),
-        torque_directions(&w.truth_frames, TorqueFrames::Stable),
-    ];
+    let sets = torque_direction_sets(&fit.samples, which, &w.truth_frames);
     let noisy = with_noise(&fit.samples, &w.truth_frames, which);
     let score = |m: &Coefficients<f64>| -> Vec<f64> {
         sets.iter()

@@ -397,7 +397,7 @@ pub(crate) fn run(
         refit.converged = confirmed && next.close_to(&trial) && !wind_moved(&r);
         if confirmed {
             last = Some((r, next.wind));
-        } else if !confirmed && next.close_to(&trial) {
+        } else if next.close_to(&trial) {
             // Settled without being kept: it will not be confirmed.
             break;
         }

@@ -134,6 +134,24 @@ pub fn torque_directions(
         .collect()
 }
 
+/// The three direction sets `C_T` is scored over (`omniad lab accept`,
+/// BENCHMARKS issue 20): the frames the pipeline's final torque fit takes
+/// (`which`, from the reconstruction `samples`), the reconstruction's
+/// frames that pass both stability tests, and the true states' such frames
+/// (`true_frames`: the same set whatever the reconstruction, so runs with
+/// different reconstructions compare on common ground).
+pub fn torque_direction_sets(
+    samples: &[crate::reconstruct::forces::Sample],
+    which: TorqueFrames,
+    true_frames: &[crate::reconstruct::forces::Sample],
+) -> [Vec<Vector3<f64>>; 3] {
+    [
+        torque_directions(samples, which),
+        torque_directions(samples, TorqueFrames::Stable),
+        torque_directions(true_frames, TorqueFrames::Stable),
+    ]
+}
+
 /// Relative L2 error of the model's `C_F` over the truth grid directions
 /// that have at least `min_frames` of `directions` within `angle` rad:
 /// `sqrt(Σ|C_F - C_F*|² / Σ|C_F*|²)`, and the number of such directions.
