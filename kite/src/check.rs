@@ -116,7 +116,7 @@ pub struct StaticReport {
     /// symmetric-part test implies it but is stricter than the physics: a
     /// non-symmetric `J` (roll-yaw coupling through the string) can have
     /// `Θ·JΘ > 0` for some Θ and still turn every Θ into a decaying
-    /// oscillation (`fig15-b`: symmetric-part eigenvalue +0.20 about yaw,
+    /// oscillation (the stop-19 `fig15-b`: symmetric-part eigenvalue +0.20 about yaw,
     /// `J`'s eigenvalues -0.02 ± 0.26i and -0.55; it flies). Whether such
     /// oscillations decay is the dynamic test's ([`crate::modes`]).
     pub stable: bool,

@@ -16,7 +16,7 @@
 //! linearisation of [`crate::equivalent`], the expected slopes over the
 //! Gaussian spread of state and gust that they drive; the slopes at the
 //! equilibrium over-predict the swing at G = 1 m/s by 10-45 % (box-three-
-//! cell, fig15-a with the string 10 cm higher: 16.5° and 16.0° linear,
+//! cell, the stop-19 fig15-a with the string 10 cm higher: 16.5° and 16.0° linear,
 //! 13.3° and 11.3° equivalent, 11.7° and 10.9° flown; BENCHMARKS, issue
 //! 17, stop 19). A kite on a limit cycle, or whose equivalent model has a
 //! mode that does not decay, keeps the small-gust `A`, `B`. That

@@ -5,7 +5,8 @@
 //! Why: the linear gust response ([`crate::gusts`]) is taken about the
 //! equilibrium in the mean wind, so it sizes the motion by the slopes
 //! there. Two kinds of kite leave those slopes behind:
-//! * fig15-d with its string 10 cm lower hangs at 24° line elevation in 5
+//! * fig15-d (the stop-19 file, `kite/tests/fixtures/fig15-d-stop19.toml`;
+//!   the bundled one is 1.5x it) with its string 10 cm lower hangs at 24° line elevation in 5
 //!   m/s, at 20° in 5.5, 13° in 6, and its equilibrium in 6.5-7.5 m/s is
 //!   another one, with a growing mode: the slope at 5 m/s says nothing of
 //!   the fold beyond; its gusty flights reach 7 m/s and dive into the
@@ -32,11 +33,11 @@
 //! at the verdict's statistic, counting the part of [`crate::wind`]'s
 //! spectrum slow enough to form it (frequencies up to `1/duration`;
 //! [`crate::gusts::gust_peak`]). Not Newton at the gust's speed: the
-//! branch the kite is on may fold (fig15-a with the string 10 cm lower
+//! branch the kite is on may fold (the stop-19 fig15-a with the string 10 cm lower
 //! jumps from 41° to 49° between 6.5 and 7 m/s), and where it goes then is
 //! the flight's to say. Not the full-spectrum peak held (2.6 m/s for 30
-//! s): no gust of `kite fly` is that strong for that long, and fig15-b
-//! pitched -10°, which flies in every gusty flight, drifts into the ground
+//! s): no gust of `kite fly` is that strong for that long, and the stop-19
+//! fig15-b pitched -10°, which flies in every gusty flight, drifts into the ground
 //! in it.
 
 use crate::flight_step::{Flight, FlightOptions, MAX_SPIN, MIN_ELEVATION_DEG};
@@ -186,10 +187,13 @@ mod tests {
     use crate::spec::StringSpec;
     use crate::Library;
 
+    /// fig15-d as it was bundled at stop 19 (the kite the module doc
+    /// measures; the bundled file is 1.5x it since stop 20).
     fn fig15_d(offset_change: f64) -> Design {
         let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
         let lib = Library::load(&root.join("data/primitives")).expect("library");
-        let mut d = Design::load(&root.join("data/kites/fig15-d.toml"), &lib).expect("kite");
+        let path = root.join("kite/tests/fixtures/fig15-d-stop19.toml");
+        let mut d = Design::load(&path, &lib).expect("kite");
         let offset = crate::check::check(&d, None)
             .expect("check")
             .attachment_offset;
