@@ -25,6 +25,8 @@ pub enum LabCommand {
     MissingTerms(Set),
     /// Forces or velocities: which carries the C_F error?
     Mixfit(Set),
+    /// The C_F error budget: one error source at a time.
+    Forcebudget(Set),
     /// Which frames' torque error makes the C_T error?
     Torquesplit(Set),
     /// Is the torque fit's regularisation right for its noise?
@@ -180,6 +182,7 @@ pub fn run(c: &LabCommand) -> Result<()> {
         LabCommand::Forcenoise(a) => lab::forcenoise::run(&a.set, &mut out),
         LabCommand::MissingTerms(a) => lab::missing_terms::run(&a.set, &mut out),
         LabCommand::Mixfit(a) => lab::mixfit::run(&a.set, &mut out),
+        LabCommand::Forcebudget(a) => lab::forcebudget::run(&a.set, &mut out),
         LabCommand::Torquesplit(a) => lab::torquesplit::run(&a.set, &mut out),
         LabCommand::Deleak(a) => lab::deleak::run(&a.set, &mut out),
         LabCommand::Torquereg(a) => lab::torquereg::run(&a.set, &mut out),

@@ -6,6 +6,7 @@
 //! * [`deleak`]: the steering model's leak, measured and taken out;
 //! * [`depth`]: per-frame depth from the markers and its Cramér-Rao bound;
 //! * [`diag`]: reconstruction errors in the camera frame with a given model;
+//! * [`forcebudget`]: the C_F error budget, one error source at a time;
 //! * [`forcenoise`]: is the C_F error force noise or force bias?
 //! * [`missing_terms`]: residual analysis of terms the model lacks;
 //! * [`mixfit`]: forces or velocities — which carries the C_F error?
@@ -18,6 +19,7 @@ pub mod accept;
 pub mod deleak;
 pub mod depth;
 pub mod diag;
+pub mod forcebudget;
 pub mod forcenoise;
 pub mod missing_terms;
 pub mod mixfit;

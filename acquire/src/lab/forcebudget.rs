@@ -1,0 +1,210 @@
+//! The C_F error budget (issue 20 item 5): `omniad lab forcebudget SET`.
+//! Each line is the C_F error (relative L2 against `truth/`, over the
+//! pipeline's well-covered directions, the acceptance rule) of the force
+//! fit (eqs. 5, 7; the pipeline's own fit, `pipeline::fit_samples`, with
+//! its cross-validated smoothing and extensions) of one set of frames,
+//! built from the pipeline's last frames and the true states' frames
+//! (eqs. 9-10 on `truth/`) so that one error source enters at a time:
+//!
+//! 1. the representation: the truth grid's own `C_F` least-squares
+//!    projected onto SH degree N (no data, no noise);
+//! 2. the fit of the true states' frames (coverage and smoothing);
+//! 3. the true forces plus white noise of the reconstruction's measured
+//!    per-frame force RMS (noise at the measured level, uncorrelated);
+//! 4. the true forces plus the reconstruction's own per-frame force errors
+//!    moved to random other frames (their size and the fit's weights kept,
+//!    their tie to the frame's direction and time broken);
+//! 5. the reconstructed forces with the true V and Ω (force error only);
+//! 6. the true forces with the reconstructed V and Ω, and with only its
+//!    speed |V| or only its direction E (velocity error only);
+//! 7. the pipeline's frames (the pipeline's own C_F).
+//!
+//! A term well below the pipeline's is not where the error is made; the
+//! largest one that the next does not add to is.
+use super::{say, LabResult};
+use crate::fit::context::FitContext;
+use crate::fit::model::zero_model;
+use crate::pipeline::{self, FitConfig};
+use crate::reconstruct::forces::Sample;
+use crate::rng::Rng;
+use crate::synth::truth::{fitted_directions, force_error, read_coefficients};
+use nalgebra::Vector3;
+use std::collections::HashMap;
+use std::io::Write;
+use std::path::Path;
+
+/// The budget of the set in `dir` (with `truth/`).
+pub fn run(dir: &Path, out: &mut dyn Write) -> LabResult {
+    let w = super::fitted_with_truth(dir)?;
+    let (set, cfg, fit, tframes) = (&w.set, &w.cfg, &w.fit, &w.truth_frames);
+    let truth = read_coefficients(&dir.join("truth/coefficients.csv"))?;
+    let dirs = fitted_directions(&fit.samples);
+    let score = |m: &omniad_core::Coefficients<f64>| {
+        let (e, n) = force_error(m, &truth, &dirs, 20, 15f64.to_radians());
+        (e * 100.0, n)
+    };
+    let (e, n) = score(&fit.model);
+    say!(out, "pipeline's model: C_F {e:.2} % over {n} directions");
+    projection(set, tframes, &truth, &score, out)?;
+    let base = zero_model(&set.object, cfg.degree)?;
+    let key: HashMap<(usize, usize), &Sample> =
+        tframes.iter().map(|t| ((t.take, t.index), t)).collect();
+    // The pipeline's frames that have a true twin, and the twins.
+    let pairs: Vec<(Sample, Sample)> = fit
+        .samples
+        .iter()
+        .filter_map(|s| key.get(&(s.take, s.index)).map(|t| (*s, **t)))
+        .collect();
+    let errors: Vec<(Vector3<f64>, nalgebra::Matrix3<f64>)> = pairs
+        .iter()
+        .filter(|(s, _)| s.use_force)
+        .map(|(s, t)| (s.force - t.force, s.force_cov))
+        .collect();
+    let rms = (errors.iter().map(|e| e.0.norm_squared()).sum::<f64>()
+        / errors.len().max(1) as f64)
+        .sqrt();
+    say!(
+        out,
+        "{} force frames: reconstructed - true force RMS {rms:.4} N ({:.1} % of M g)",
+        errors.len(),
+        100.0 * rms / (set.object.mass * set.world.gravity.norm())
+    );
+    let terms = budget_frames(&pairs, tframes, &errors, rms);
+    for (label, frames) in &terms {
+        let m = pipeline::fit_samples(&base, frames, set, cfg)?;
+        let (e, n) = score(&m);
+        say!(out, "{label}: C_F {e:.2} % over {n}");
+    }
+    Ok(())
+}
+
+/// The frame sets of terms 2-7 (see the module doc), labelled.
+fn budget_frames(
+    pairs: &[(Sample, Sample)],
+    tframes: &[Sample],
+    errors: &[(Vector3<f64>, nalgebra::Matrix3<f64>)],
+    rms: f64,
+) -> Vec<(&'static str, Vec<Sample>)> {
+    let mut rng = Rng::new(1);
+    let sigma = rms / 3f64.sqrt();
+    let white: Vec<Sample> = tframes
+        .iter()
+        .map(|t| Sample {
+            force: t.force + Vector3::new(rng.normal(), rng.normal(), rng.normal()) * sigma,
+            ..*t
+        })
+        .collect();
+    // A random permutation of the force frames' errors (Fisher-Yates).
+    let mut order: Vec<usize> = (0..errors.len()).collect();
+    for i in (1..order.len()).rev() {
+        let j = ((rng.uniform() * (i + 1) as f64) as usize).min(i);
+        order.swap(i, j);
+    }
+    let mut moved = Vec::with_capacity(pairs.len());
+    let mut next = order.iter();
+    for (s, t) in pairs {
+        let mut f = Sample {
+            use_force: s.use_force,
+            use_torque: s.use_torque,
+            ..*t
+        };
+        if s.use_force {
+            if let Some((d, cov)) = next.next().and_then(|&k| errors.get(k)) {
+                f.force += d;
+                f.force_cov = *cov;
+            }
+        }
+        moved.push(f);
+    }
+    let map = |f: &dyn Fn(&Sample, &Sample) -> Sample| -> Vec<Sample> {
+        pairs.iter().map(|(s, t)| f(s, t)).collect()
+    };
+    let speed = |s: &Sample, t: &Sample| t.velocity * (s.velocity.norm() / t.velocity.norm());
+    vec![
+        ("true states' frames", tframes.to_vec()),
+        ("true forces + white noise at the measured RMS", white),
+        ("true forces + the reconstruction's errors moved to random frames", moved),
+        (
+            "reconstructed forces, true V and Omega",
+            map(&|s, t| Sample {
+                velocity: t.velocity,
+                angular_velocity: t.angular_velocity,
+                gravity_body: t.gravity_body,
+                ..*s
+            }),
+        ),
+        (
+            "true forces, reconstructed V and Omega",
+            map(&|s, t| Sample {
+                force: t.force,
+                torque: t.torque,
+                ..*s
+            }),
+        ),
+        (
+            "true forces and E, reconstructed |V|",
+            map(&|s, t| Sample {
+                velocity: speed(s, t),
+                ..*t
+            }),
+        ),
+        (
+            "true forces and |V|, reconstructed E",
+            map(&|s, t| Sample {
+                velocity: s.velocity * (t.velocity.norm() / s.velocity.norm()),
+                ..*t
+            }),
+        ),
+        ("the pipeline's frames", pairs.iter().map(|p| p.0).collect()),
+    ]
+}
+
+/// Term 1: the truth grid's `C_F` least-squares projected onto SH degree
+/// N (eq. 7's space; a negligible smoothing, no extensions), scored as
+/// the fits: the error floor of a degree-N force model on this object.
+fn projection(
+    set: &crate::input::recording::RecordingSet,
+    template: &[Sample],
+    truth: &[[Vector3<f64>; 3]],
+    score: &dyn Fn(&omniad_core::Coefficients<f64>) -> (f64, usize),
+    out: &mut dyn Write,
+) -> LabResult {
+    let Some(t) = template.first() else {
+        return Ok(());
+    };
+    let ctx = FitContext::of_set(set);
+    // Eq. (5) at |V| = 1 m/s: F = ½ρL² C_F(E).
+    let q = 0.5 * ctx.air_density * ctx.reference_length.powi(2);
+    let grid: Vec<Sample> = truth
+        .iter()
+        .enumerate()
+        .map(|(i, [e, cf, _])| Sample {
+            take: i % 5,
+            velocity: e.normalize(),
+            angular_velocity: Vector3::zeros(),
+            force: cf * q,
+            force_cov: nalgebra::Matrix3::zeros(),
+            use_force: true,
+            use_torque: true,
+            ..*t
+        })
+        .collect();
+    for degree in [6u8, 8, 10, 12] {
+        let base = zero_model(&set.object, degree)?;
+        let mut cfg = FitConfig {
+            degree,
+            ..FitConfig::default()
+        };
+        cfg.lsq.cross_validate = false;
+        cfg.lsq.extensions = false;
+        cfg.lsq.smoothing = 1e-7;
+        cfg.lsq.smoothness_order = Some(1);
+        let m = pipeline::fit_samples(&base, &grid, set, &cfg)?;
+        let (e, n) = score(&m);
+        say!(
+            out,
+            "truth grid projected on degree {degree}: C_F {e:.2} % over {n}"
+        );
+    }
+    Ok(())
+}
