@@ -33,9 +33,10 @@ use std::collections::HashMap;
 use std::io::Write;
 use std::path::Path;
 
-/// The budget of the set in `dir` (with `truth/`).
-pub fn run(dir: &Path, out: &mut dyn Write) -> LabResult {
-    let w = super::fitted_with_truth(dir)?;
+/// The budget of the set in `dir` (with `truth/`), the pipeline run with
+/// `knobs`' configuration (default: `omniad fit`'s).
+pub fn run(dir: &Path, knobs: &super::Knobs, out: &mut dyn Write) -> LabResult {
+    let w = super::fitted_with_truth_by(dir, knobs.fit_config())?;
     let (set, cfg, fit, tframes) = (&w.set, &w.cfg, &w.fit, &w.truth_frames);
     let truth = read_coefficients(&dir.join("truth/coefficients.csv"))?;
     let dirs = fitted_directions(&fit.samples);

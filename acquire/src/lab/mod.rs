@@ -64,6 +64,8 @@ pub struct Knobs {
     pub relinearise: Option<usize>,
     /// `FitConfig::relinearised_iterations`.
     pub relinearised_iterations: Option<usize>,
+    /// `FitConfig::cross_fit`.
+    pub cross_fit: bool,
     /// `FilterConfig::relinearise` of the final reconstruction (diag).
     pub relinearise_final: Option<usize>,
     /// SH degree.
@@ -110,6 +112,9 @@ impl Knobs {
         if let Some(r) = self.relinearised_iterations {
             cfg.relinearised_iterations = r;
         }
+        if self.cross_fit {
+            cfg.cross_fit = true;
+        }
         if let Some(d) = self.degree {
             cfg.degree = d;
         }
@@ -137,8 +142,15 @@ pub(crate) struct FittedWithTruth {
 pub(crate) fn fitted_with_truth(
     dir: &std::path::Path,
 ) -> Result<FittedWithTruth, Box<dyn std::error::Error>> {
+    fitted_with_truth_by(dir, FitConfig::default())
+}
+
+/// [`fitted_with_truth`] with the configuration `cfg`.
+pub(crate) fn fitted_with_truth_by(
+    dir: &std::path::Path,
+    cfg: FitConfig,
+) -> Result<FittedWithTruth, Box<dyn std::error::Error>> {
     let set = crate::input::recording::RecordingSet::load(dir)?;
-    let cfg = FitConfig::default();
     let fit = crate::pipeline::fit(&set, &cfg, &crate::reconstruct::run::Silent)?;
     let truth_states = crate::synth::truth::true_trajectories(dir, &set)?;
     let mut st = crate::reconstruct::forces::ForceStats::default();
