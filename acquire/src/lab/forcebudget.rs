@@ -61,8 +61,7 @@ pub fn run(dir: &Path, knobs: &super::Knobs, out: &mut dyn Write) -> LabResult {
         .filter(|(s, _)| s.use_force)
         .map(|(s, t)| (s.force - t.force, s.force_cov))
         .collect();
-    let rms = (errors.iter().map(|e| e.0.norm_squared()).sum::<f64>()
-        / errors.len().max(1) as f64)
+    let rms = (errors.iter().map(|e| e.0.norm_squared()).sum::<f64>() / errors.len().max(1) as f64)
         .sqrt();
     say!(
         out,
@@ -124,7 +123,10 @@ fn budget_frames(
     vec![
         ("true states' frames", tframes.to_vec()),
         ("true forces + white noise at the measured RMS", white),
-        ("true forces + the reconstruction's errors moved to random frames", moved),
+        (
+            "true forces + the reconstruction's errors moved to random frames",
+            moved,
+        ),
         (
             "reconstructed forces, true V and Omega",
             map(&|s, t| Sample {
@@ -208,4 +210,88 @@ fn projection(
         );
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::fit::lsq::tests::samples;
+    use crate::input::recording::TakeKind;
+    use crate::synth::{truth_model, ObjectSpec, SynthObject};
+
+    /// Each term takes exactly the part of the reconstruction it names.
+    #[test]
+    fn each_term_swaps_in_only_its_part() {
+        let truth = truth_model(&ObjectSpec::of(SynthObject::Plate), 4).expect("model");
+        let tframes = samples(&truth, 40, TakeKind::Drop);
+        let mut rng = Rng::new(9);
+        let mut noise = || Vector3::new(rng.normal(), rng.normal(), rng.normal());
+        let pairs: Vec<(Sample, Sample)> = tframes
+            .iter()
+            .map(|t| {
+                let s = Sample {
+                    force: t.force + noise() * 0.1,
+                    velocity: t.velocity * 1.05 + noise() * 0.2,
+                    angular_velocity: t.angular_velocity + noise(),
+                    force_cov: nalgebra::Matrix3::identity() * 0.01,
+                    ..*t
+                };
+                (s, *t)
+            })
+            .collect();
+        let errors: Vec<_> = pairs
+            .iter()
+            .map(|(s, t)| (s.force - t.force, s.force_cov))
+            .collect();
+        let terms = budget_frames(&pairs, &tframes, &errors, 0.1);
+        let get = |label: &str| {
+            terms
+                .iter()
+                .find(|(l, _)| l.starts_with(label))
+                .map(|(_, f)| f.clone())
+                .expect(label)
+        };
+        let zip = |f: &[Sample]| {
+            f.iter()
+                .zip(&pairs)
+                .map(|(a, (s, t))| (*a, *s, *t))
+                .collect::<Vec<_>>()
+        };
+        for (a, s, t) in zip(&get("reconstructed forces, true V")) {
+            assert_eq!((a.force, a.velocity), (s.force, t.velocity));
+        }
+        for (a, s, t) in zip(&get("true forces, reconstructed V")) {
+            assert_eq!((a.force, a.velocity), (t.force, s.velocity));
+        }
+        for (a, s, t) in zip(&get("true forces and E, reconstructed |V|")) {
+            assert!((a.velocity.norm() - s.velocity.norm()).abs() < 1e-12);
+            assert!((a.velocity.normalize() - t.velocity.normalize()).norm() < 1e-12);
+        }
+        for (a, s, t) in zip(&get("true forces and |V|, reconstructed E")) {
+            assert!((a.velocity.norm() - t.velocity.norm()).abs() < 1e-12);
+            assert!((a.velocity.normalize() - s.velocity.normalize()).norm() < 1e-12);
+        }
+        // The moved errors are the same errors, on other frames.
+        let moved = get("true forces + the reconstruction's errors");
+        let mut got: Vec<f64> = zip(&moved)
+            .iter()
+            .map(|(a, _, t)| (a.force - t.force).norm())
+            .collect();
+        let mut want: Vec<f64> = errors.iter().map(|e| e.0.norm()).collect();
+        got.sort_by(f64::total_cmp);
+        want.sort_by(f64::total_cmp);
+        assert!(got.iter().zip(&want).all(|(a, b)| (a - b).abs() < 1e-12));
+        let in_place = zip(&moved)
+            .iter()
+            .filter(|(a, s, _)| (a.force - s.force).norm() < 1e-12)
+            .count();
+        assert!(
+            in_place < 5,
+            "{in_place} of 40 errors stayed on their frame"
+        );
+        assert_eq!(
+            get("the pipeline's frames"),
+            pairs.iter().map(|p| p.0).collect::<Vec<_>>()
+        );
+    }
 }
