@@ -17,7 +17,12 @@
 //! 5. the reconstructed forces with the true V and Ω (force error only);
 //! 6. the true forces with the reconstructed V and Ω, and with only its
 //!    speed |V| or only its direction E (velocity error only);
-//! 7. the pipeline's frames (the pipeline's own C_F).
+//! 7. terms 5 and 6 with the reconstruction's world-frame force and
+//!    velocity turned into the TRUE body frame (`R*ᵀ R̂`): what is left
+//!    when the attitude error is taken out;
+//! 8. the pipeline's frames (the pipeline's own C_F);
+//! 9. the true forces averaged over 3 and 5 frames of their take (world
+//!    frame): what a force resolved only that coarsely in time costs.
 //!
 //! A term well below the pipeline's is not where the error is made; the
 //! largest one that the next does not add to is.
@@ -28,7 +33,7 @@ use crate::pipeline::{self, FitConfig};
 use crate::reconstruct::forces::Sample;
 use crate::rng::Rng;
 use crate::synth::truth::{fitted_directions, force_error, read_coefficients};
-use nalgebra::Vector3;
+use nalgebra::{UnitQuaternion, Vector3};
 use std::collections::HashMap;
 use std::io::Write;
 use std::path::Path;
@@ -56,6 +61,23 @@ pub fn run(dir: &Path, knobs: &super::Knobs, out: &mut dyn Write) -> LabResult {
         .iter()
         .filter_map(|s| key.get(&(s.take, s.index)).map(|t| (*s, **t)))
         .collect();
+    let true_states = crate::synth::truth::true_trajectories(dir, set)?;
+    let attitude = |states: &[crate::reconstruct::filter::Smoothed], s: &Sample| {
+        states
+            .get(s.take)
+            .and_then(|x| x.states.get(s.index))
+            .map(|x| x.orientation)
+    };
+    // Per pair: `R*ᵀ R̂`, from the reconstructed body frame to the true one.
+    let turns: Vec<UnitQuaternion<f64>> = pairs
+        .iter()
+        .map(
+            |(s, _)| match (attitude(&true_states, s), attitude(&fit.reconstruction, s)) {
+                (Some(t), Some(r)) => t.inverse() * r,
+                _ => UnitQuaternion::identity(),
+            },
+        )
+        .collect();
     let errors: Vec<(Vector3<f64>, nalgebra::Matrix3<f64>)> = pairs
         .iter()
         .filter(|(s, _)| s.use_force)
@@ -69,7 +91,13 @@ pub fn run(dir: &Path, knobs: &super::Knobs, out: &mut dyn Write) -> LabResult {
         errors.len(),
         100.0 * rms / (set.object.mass * set.world.gravity.norm())
     );
-    let terms = budget_frames(&pairs, tframes, &errors, rms);
+    let mut terms = budget_frames(&pairs, &turns, tframes, &errors, rms);
+    for (w, label) in [
+        (1, "true forces averaged over 3 frames (world frame)"),
+        (2, "true forces averaged over 5 frames (world frame)"),
+    ] {
+        terms.push((label, averaged(tframes, &true_states, w)));
+    }
     for (label, frames) in &terms {
         let m = pipeline::fit_samples(&base, frames, set, cfg)?;
         let (e, n) = score(&m);
@@ -78,9 +106,44 @@ pub fn run(dir: &Path, knobs: &super::Knobs, out: &mut dyn Write) -> LabResult {
     Ok(())
 }
 
-/// The frame sets of terms 2-7 (see the module doc), labelled.
+/// Term 9: `frames` with each force replaced by the mean world-frame
+/// force (`R F`, `R` the frame's attitude in `states`) of the frames of
+/// its take within `w` epochs, turned back into its body frame: the error
+/// of a reconstruction that resolves the force over `2w + 1` frames only.
+fn averaged(
+    frames: &[Sample],
+    states: &[crate::reconstruct::filter::Smoothed],
+    w: usize,
+) -> Vec<Sample> {
+    let turn = |s: &Sample| {
+        states
+            .get(s.take)
+            .and_then(|x| x.states.get(s.index))
+            .map_or(UnitQuaternion::identity(), |x| x.orientation)
+    };
+    let world: HashMap<(usize, usize), Vector3<f64>> = frames
+        .iter()
+        .map(|s| ((s.take, s.index), turn(s) * s.force))
+        .collect();
+    frames
+        .iter()
+        .map(|s| {
+            let near: Vec<Vector3<f64>> = (s.index.saturating_sub(w)..=s.index + w)
+                .filter_map(|k| world.get(&(s.take, k)).copied())
+                .collect();
+            let mean = near.iter().sum::<Vector3<f64>>() / near.len().max(1) as f64;
+            Sample {
+                force: turn(s).inverse() * mean,
+                ..*s
+            }
+        })
+        .collect()
+}
+
+/// The frame sets of terms 2-8 (see the module doc), labelled.
 fn budget_frames(
     pairs: &[(Sample, Sample)],
+    turns: &[UnitQuaternion<f64>],
     tframes: &[Sample],
     errors: &[(Vector3<f64>, nalgebra::Matrix3<f64>)],
     rms: f64,
@@ -120,6 +183,13 @@ fn budget_frames(
         pairs.iter().map(|(s, t)| f(s, t)).collect()
     };
     let speed = |s: &Sample, t: &Sample| t.velocity * (s.velocity.norm() / t.velocity.norm());
+    let turned = |f: &dyn Fn(&Sample, &Sample, &UnitQuaternion<f64>) -> Sample| -> Vec<Sample> {
+        pairs
+            .iter()
+            .zip(turns)
+            .map(|((s, t), q)| f(s, t, q))
+            .collect()
+    };
     vec![
         ("true states' frames", tframes.to_vec()),
         ("true forces + white noise at the measured RMS", white),
@@ -155,6 +225,28 @@ fn budget_frames(
             "true forces and |V|, reconstructed E",
             map(&|s, t| Sample {
                 velocity: s.velocity * (t.velocity.norm() / s.velocity.norm()),
+                ..*t
+            }),
+        ),
+        (
+            "reconstructed forces in the true attitude, true V and Omega",
+            turned(&|s, t, q| {
+                let r = q.to_rotation_matrix();
+                Sample {
+                    force: q * s.force,
+                    force_cov: r * s.force_cov * r.transpose(),
+                    use_force: s.use_force,
+                    use_torque: s.use_torque,
+                    ..*t
+                }
+            }),
+        ),
+        (
+            "true forces, reconstructed velocity in the true attitude",
+            turned(&|s, t, q| Sample {
+                velocity: q * s.velocity,
+                use_force: s.use_force,
+                use_torque: s.use_torque,
                 ..*t
             }),
         ),
@@ -243,7 +335,10 @@ mod tests {
             .iter()
             .map(|(s, t)| (s.force - t.force, s.force_cov))
             .collect();
-        let terms = budget_frames(&pairs, &tframes, &errors, 0.1);
+        let turns: Vec<UnitQuaternion<f64>> = (0..pairs.len())
+            .map(|k| UnitQuaternion::from_euler_angles(0.01 * k as f64, 0.2, -0.1))
+            .collect();
+        let terms = budget_frames(&pairs, &turns, &tframes, &errors, 0.1);
         let get = |label: &str| {
             terms
                 .iter()
@@ -270,6 +365,16 @@ mod tests {
         for (a, s, t) in zip(&get("true forces and |V|, reconstructed E")) {
             assert!((a.velocity.norm() - t.velocity.norm()).abs() < 1e-12);
             assert!((a.velocity.normalize() - s.velocity.normalize()).norm() < 1e-12);
+        }
+        let rows = zip(&get("reconstructed forces in the true attitude"));
+        for ((a, s, t), q) in rows.iter().zip(&turns) {
+            assert!((a.force - q * s.force).norm() < 1e-12);
+            assert_eq!(a.velocity, t.velocity);
+        }
+        let rows = zip(&get("true forces, reconstructed velocity in the true"));
+        for ((a, s, t), q) in rows.iter().zip(&turns) {
+            assert!((a.velocity - q * s.velocity).norm() < 1e-12);
+            assert_eq!(a.force, t.force);
         }
         // The moved errors are the same errors, on other frames.
         let moved = get("true forces + the reconstruction's errors");
