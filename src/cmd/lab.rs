@@ -25,6 +25,8 @@ pub enum LabCommand {
     MissingTerms(Set),
     /// Forces or velocities: which carries the C_F error?
     Mixfit(Set),
+    /// The C_F error budget: one error source at a time.
+    Forcebudget(Common),
     /// Which frames' torque error makes the C_T error?
     Torquesplit(Set),
     /// Is the torque fit's regularisation right for its noise?
@@ -83,6 +85,10 @@ pub struct Common {
     /// Iterations (from the last) that relinearise.
     #[arg(long)]
     pub relinearised_iterations: Option<usize>,
+    /// Reconstruct each take with the force model fitted without its own
+    /// frames (`FitConfig::cross_fit`).
+    #[arg(long)]
+    pub cross_fit: bool,
     /// Per-take state errors of the last iteration too.
     #[arg(long)]
     pub per_take: bool,
@@ -151,6 +157,7 @@ impl Common {
             no_extensions: self.no_extensions,
             relinearise: self.relinearise,
             relinearised_iterations: self.relinearised_iterations,
+            cross_fit: self.cross_fit,
             degree: self.degree,
             order: self.order,
             per_take: self.per_take,
@@ -180,6 +187,7 @@ pub fn run(c: &LabCommand) -> Result<()> {
         LabCommand::Forcenoise(a) => lab::forcenoise::run(&a.set, &mut out),
         LabCommand::MissingTerms(a) => lab::missing_terms::run(&a.set, &mut out),
         LabCommand::Mixfit(a) => lab::mixfit::run(&a.set, &mut out),
+        LabCommand::Forcebudget(a) => lab::forcebudget::run(&a.set, &a.knobs(), &mut out),
         LabCommand::Torquesplit(a) => lab::torquesplit::run(&a.set, &mut out),
         LabCommand::Deleak(a) => lab::deleak::run(&a.set, &mut out),
         LabCommand::Torquereg(a) => lab::torquereg::run(&a.set, &mut out),

@@ -6,6 +6,7 @@
 //! * [`deleak`]: the steering model's leak, measured and taken out;
 //! * [`depth`]: per-frame depth from the markers and its Cramér-Rao bound;
 //! * [`diag`]: reconstruction errors in the camera frame with a given model;
+//! * [`forcebudget`]: the C_F error budget, one error source at a time;
 //! * [`forcenoise`]: is the C_F error force noise or force bias?
 //! * [`missing_terms`]: residual analysis of terms the model lacks;
 //! * [`mixfit`]: forces or velocities — which carries the C_F error?
@@ -18,6 +19,7 @@ pub mod accept;
 pub mod deleak;
 pub mod depth;
 pub mod diag;
+pub mod forcebudget;
 pub mod forcenoise;
 pub mod missing_terms;
 pub mod mixfit;
@@ -62,6 +64,8 @@ pub struct Knobs {
     pub relinearise: Option<usize>,
     /// `FitConfig::relinearised_iterations`.
     pub relinearised_iterations: Option<usize>,
+    /// `FitConfig::cross_fit`.
+    pub cross_fit: bool,
     /// `FilterConfig::relinearise` of the final reconstruction (diag).
     pub relinearise_final: Option<usize>,
     /// SH degree.
@@ -108,6 +112,9 @@ impl Knobs {
         if let Some(r) = self.relinearised_iterations {
             cfg.relinearised_iterations = r;
         }
+        if self.cross_fit {
+            cfg.cross_fit = true;
+        }
         if let Some(d) = self.degree {
             cfg.degree = d;
         }
@@ -135,8 +142,15 @@ pub(crate) struct FittedWithTruth {
 pub(crate) fn fitted_with_truth(
     dir: &std::path::Path,
 ) -> Result<FittedWithTruth, Box<dyn std::error::Error>> {
+    fitted_with_truth_by(dir, FitConfig::default())
+}
+
+/// [`fitted_with_truth`] with the configuration `cfg`.
+pub(crate) fn fitted_with_truth_by(
+    dir: &std::path::Path,
+    cfg: FitConfig,
+) -> Result<FittedWithTruth, Box<dyn std::error::Error>> {
     let set = crate::input::recording::RecordingSet::load(dir)?;
-    let cfg = FitConfig::default();
     let fit = crate::pipeline::fit(&set, &cfg, &crate::reconstruct::run::Silent)?;
     let truth_states = crate::synth::truth::true_trajectories(dir, &set)?;
     let mut st = crate::reconstruct::forces::ForceStats::default();
