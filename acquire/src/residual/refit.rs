@@ -355,46 +355,14 @@ pub(crate) fn run(
     let mut previous: Option<Steps> = None;
     let mut before = per_take(&first);
     let pose_noise = cfg.filter.pose_position_noise;
-    let first_fit = markers::per_take(set, &first.outcome.reconstruction, pose_noise);
+    let mut reference = markers::per_take(set, &first.outcome.reconstruction, pose_noise);
+    let names: Vec<&str> = set.takes.iter().map(|t| t.name.as_str()).collect();
     while !trial.is_empty() && refit.refits < MAX_REFITS {
         let r = round(set, cfg, trial.clone(), given, Some(&first.null), progress)?;
         refit.refits += 1;
         let now = per_take(&r);
         let now_fit = markers::per_take(set, &r.outcome.reconstruction, pose_noise);
-        // Broken by either test: its markers (the reconstruction no longer
-        // follows them) or its held-out force (a mirror-image branch fits
-        // the markers as well, only the motion tells it apart).
-        let mut skip: Vec<usize> = takes::jumps(&before, &now).iter().map(|j| j.take).collect();
-        skip.extend(takes::broken(&first_fit, &now_fit).iter().map(|b| b.take));
-        skip.sort_unstable();
-        skip.dedup();
-        let error = |k: usize, v: &[(usize, f64)]| v.iter().find(|x| x.0 == k).map_or(0.0, |x| x.1);
-        let jumped: Vec<JumpedTake> = skip
-            .iter()
-            .map(|&k| JumpedTake {
-                take: set
-                    .takes
-                    .get(k)
-                    .map_or_else(|| format!("#{k}"), |t| t.name.clone()),
-                error: [error(k, &before), error(k, &now)],
-                markers: [error(k, &first_fit), error(k, &now_fit)],
-            })
-            .collect();
-        // A take that broke is compared with its error before the break
-        // again next round (it may stay broken).
-        before = now
-            .iter()
-            .map(|&(k, e)| {
-                (
-                    k,
-                    if skip.contains(&k) {
-                        error(k, &before)
-                    } else {
-                        e
-                    },
-                )
-            })
-            .collect();
+        let (skip, jumped) = takes::judge(&names, (&mut before, &now), (&mut reference, &now_fit));
         let r = if skip.is_empty() {
             r
         } else {
