@@ -179,7 +179,7 @@ fn sighting(
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use crate::reconstruct::filter::FilterStats;
     use crate::synth::write::generate;
@@ -187,7 +187,8 @@ mod tests {
     use nalgebra::{Quaternion, UnitQuaternion};
 
     /// The truth states of take `name` of the synthetic set in `dir`.
-    fn truth(dir: &std::path::Path, name: &str) -> Smoothed {
+    /// A take's true states (`truth/NAME`) as a reconstruction.
+    pub(crate) fn truth(dir: &std::path::Path, name: &str) -> Smoothed {
         let rows =
             crate::input::state_csv::read_states(&dir.join("truth").join(name)).expect("truth csv");
         let (times, states) = rows

@@ -29,9 +29,10 @@
 //!   is kept only when the refitted states confirm it (selected,
 //!   plausible);
 //! * a round is judged take by take ([`takes`]): a take whose held-out
-//!   error jumps while the others settle (its reconstruction broke in that
-//!   round) is named and left out of that round's selection, proposal and
-//!   comparison.
+//!   error jumps while the others settle, or whose markers the round's
+//!   reconstruction misses by more than their noise beyond its first-round
+//!   fit ([`markers`]; its reconstruction broke in that round), is named
+//!   and left out of that round's selection, proposal and comparison.
 //!
 //! Rounds stop when the state effects are the same as the round's own,
 //! the wind and each effect change by less than [`state::WIND_TOLERANCE`]
@@ -41,6 +42,7 @@
 //! Generic blocks (spin, gravity coupling) stay out of the process model:
 //! they are the last resort, not physics to predict with.
 
+mod markers;
 mod proposal;
 mod report;
 mod state;
@@ -352,37 +354,22 @@ pub(crate) fn run(
     let mut last: Option<(Round, Option<Vector3<f64>>)> = None;
     let mut previous: Option<Steps> = None;
     let mut before = per_take(&first);
+    let pose_noise = cfg.filter.pose_position_noise;
+    let mut reference = markers::per_take(set, &first.outcome.reconstruction, pose_noise);
+    let names: Vec<&str> = set.takes.iter().map(|t| t.name.as_str()).collect();
     while !trial.is_empty() && refit.refits < MAX_REFITS {
         let r = round(set, cfg, trial.clone(), given, Some(&first.null), progress)?;
         refit.refits += 1;
         let now = per_take(&r);
-        let jumps = takes::jumps(&before, &now);
-        // A take that broke is compared with its error before the jump
-        // again next round (it may stay broken).
-        before = now
-            .iter()
-            .map(|&(k, e)| {
-                jumps
-                    .iter()
-                    .find(|j| j.take == k)
-                    .map_or((k, e), |j| (k, j.before))
-            })
-            .collect();
-        let skip: Vec<usize> = jumps.iter().map(|j| j.take).collect();
+        let now_fit = markers::per_take(set, &r.outcome.reconstruction, pose_noise);
+        let (skip, jumped) = takes::judge(&names, (&mut before, &now), (&mut reference, &now_fit));
         let r = if skip.is_empty() {
             r
         } else {
             without(set, cfg, r, &skip, given, progress)
         };
-        let jumped = jumps.iter().map(|j| JumpedTake {
-            take: set
-                .takes
-                .get(j.take)
-                .map_or_else(|| format!("#{}", j.take), |t| t.name.clone()),
-            error: [j.before, j.after],
-        });
         refit.rounds.push(RefitRound {
-            jumped_takes: jumped.collect(),
+            jumped_takes: jumped,
             ..summary(&r)
         });
         let next = proposal(&r, false);

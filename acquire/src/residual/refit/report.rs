@@ -36,6 +36,10 @@ pub struct JumpedTake {
     /// Its weighted held-out force error under the round's selection, the
     /// round before and in this round.
     pub error: [f64; 2],
+    /// Its markers' misfit per degree of freedom (in units of their noise
+    /// variance, [`super::markers::misfit`]), the first round it was
+    /// reconstructed in and this one (`None`: not reconstructed).
+    pub markers: [Option<f64>; 2],
 }
 
 /// What the refit did.
@@ -107,8 +111,12 @@ pub(crate) fn describe(r: &Refit) -> Vec<String> {
     for (i, round) in r.rounds.iter().enumerate() {
         for j in &round.jumped_takes {
             out.push(format!(
-                "In refit {i}, take {}'s held-out error jumped ({:.4} -> {:.4}) while the other takes settled: its reconstruction broke in that round, which was analysed without it.",
-                j.take, j.error[0], j.error[1]
+                "In refit {i}, take {}'s reconstruction broke (held-out error {:.4} -> {:.4}, its markers' misfit per degree of freedom {} first -> {}): that round was analysed without it.",
+                j.take,
+                j.error[0],
+                j.error[1],
+                j.markers[0].map_or_else(|| "unknown".into(), |m| format!("{m:.2}")),
+                j.markers[1].map_or_else(|| "unknown".into(), |m| format!("{m:.2}"))
             ));
         }
     }
