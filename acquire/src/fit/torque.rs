@@ -10,6 +10,7 @@ use crate::fit::damping::{omega_map, with_floor};
 use crate::fit::model::with_torque;
 use crate::fit::normals::{per_take, solve, total, Normals, Rows};
 use crate::fit::smoothing::{cross_validated, regularise, Smoothing, SMOOTHNESS_ORDERS};
+use crate::fit::torque_prior::{beta_of, pin_prior, prior_map, with_prior};
 use crate::reconstruct::forces::Sample;
 use nalgebra::{DMatrix, DVector, Vector3};
 use omniad_core::sh::coeff_count;
@@ -177,8 +178,70 @@ pub fn refit_final_torque(
     ctx: &FitContext,
     cfg: &LsqConfig,
 ) -> Result<Coefficients<f64>> {
-    let (beta, damping, _) = fit_torque(samples, ctx, cfg, TorqueFrames::NoThrust);
+    let k = std::env::var("OMNIAD_CT_PRIOR")
+        .ok()
+        .and_then(|v| v.parse::<usize>().ok());
+    let (beta, damping, _) = match k {
+        Some(k) => fit_torque_with_prior(samples, ctx, cfg, TorqueFrames::NoThrust, model, k),
+        None => fit_torque(samples, ctx, cfg, TorqueFrames::NoThrust),
+    };
     with_torque(model, &beta, &damping)
+}
+
+/// [`fit_torque`] with the centre-of-pressure prior of
+/// [`crate::fit::torque_prior`] of degree `k` (`C_F` from `model`): the
+/// smoothness penalty (cross-validated as in [`fit_torque`]) on the
+/// correction to `ρ̂(E) × C_F(E)` only.
+pub fn fit_torque_with_prior(
+    samples: &[Sample],
+    ctx: &FitContext,
+    cfg: &LsqConfig,
+    which: TorqueFrames,
+    model: &Coefficients<f64>,
+    k: usize,
+) -> ([Vec<f64>; 3], [f64; 6], Smoothing) {
+    let (takes, total) = torque_normals(samples, ctx, cfg.degree, which);
+    let p = prior_map(model, ctx, cfg.degree, k);
+    let takes: Vec<Normals> = takes.iter().map(|t| with_prior(t, &p)).collect();
+    let mut total = with_prior(&total, &p);
+    pin_prior(&mut total, p.ncols());
+    let smoothing = torque_penalty(&takes, &total, cfg);
+    let (beta, six) = solve_with_prior(total, cfg, smoothing, &p);
+    (beta, six, smoothing)
+}
+
+/// [`solve_torque`] on the unknowns `(c, d, ρ)` of
+/// [`crate::fit::torque_prior::with_prior`]: D fitted jointly and
+/// projected onto positive definite matrices, then `(c, ρ)` refitted with
+/// D fixed; returns `β = c + P ρ` and D.
+pub(crate) fn solve_with_prior(
+    total: Normals,
+    cfg: &LsqConfig,
+    smoothing: Smoothing,
+    p: &DMatrix<f64>,
+) -> ([Vec<f64>; 3], [f64; 6]) {
+    let n = coeff_count(cfg.degree);
+    let Normals { mut ata, atb, .. } = total;
+    regularise(&mut ata, 3, cfg.degree, smoothing);
+    let x = solve(&ata, &atb);
+    let raw: [f64; 6] = std::array::from_fn(|i| x[3 * n + i]);
+    let six = with_floor(&raw, cfg.damping_floor);
+    let keep: Vec<usize> = (0..3 * n).chain(3 * n + 6..ata.nrows()).collect();
+    let d: Vec<usize> = (3 * n..3 * n + 6).collect();
+    let sub = ata.select_rows(&keep).select_columns(&keep);
+    let cross = ata.select_rows(&keep).select_columns(&d);
+    let rhs = atb.select_rows(&keep) - cross * DVector::from_row_slice(&six);
+    let y = solve(&sub, &rhs);
+    // Back to (c, d, ρ) so that beta_of finds ρ last.
+    let mut full = DVector::zeros(ata.nrows());
+    for (v, &i) in y.iter().zip(&keep) {
+        full[i] = *v;
+    }
+    let beta = beta_of(&full, p);
+    (
+        std::array::from_fn(|i| beta.rows(i * n, n).as_slice().to_vec()),
+        six,
+    )
 }
 
 /// One torque equation: `target = sh · β^block + damp · d`.
