@@ -90,6 +90,19 @@ pub(crate) fn cross_validated(
     fallback: Smoothing,
     degree: usize,
 ) -> Smoothing {
+    cross_validated_scored(takes, held_out, total, orders, fallback, degree).1
+}
+
+/// [`cross_validated`] with the chosen penalty's held-out score
+/// ([`crate::fit::select::choose`]).
+pub(crate) fn cross_validated_scored(
+    takes: &[Normals],
+    held_out: &[Normals],
+    total: &Normals,
+    orders: &[u32],
+    fallback: Smoothing,
+    degree: usize,
+) -> (f64, Smoothing) {
     let scale = data_scale(&total.ata, 3 * coeff_count(degree));
     let candidates: Vec<Smoothing> = orders
         .iter()

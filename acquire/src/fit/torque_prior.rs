@@ -121,3 +121,101 @@ pub(crate) fn beta_of(x: &DVector<f64>, p: &DMatrix<f64>) -> DVector<f64> {
     let rho = x.rows(x.len() - p.ncols(), p.ncols());
     x.rows(0, n3) + p * rho
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::fit::config::LsqConfig;
+    use crate::fit::lsq::tests::{degree_six, samples};
+    use crate::fit::model::with_torque;
+    use crate::fit::torque::{fit_torque, refit_final_torque, TorqueFrames};
+    use crate::input::recording::TakeKind;
+    use crate::rng::Rng;
+    use crate::synth::{truth_model, ObjectSpec, SynthObject};
+
+    /// `truth` with its torque replaced by `ρ̂(E) × C_F(E)` of degree 1
+    /// (`ρ` fixed numbers), projected by [`prior_map`]; and `ρ̂` itself.
+    fn centre_of_pressure_model(
+        truth: &Coefficients<f64>,
+        ctx: &FitContext,
+    ) -> (Coefficients<f64>, impl Fn(&Vector3<f64>) -> Vector3<f64>) {
+        let degree = usize::from(truth.degree());
+        let p = prior_map(truth, ctx, degree, 1);
+        let rho = DVector::from_fn(12, |i, _| 0.05 * ((i * 7 % 5) as f64 - 2.0));
+        let beta = &p * &rho;
+        let n = coeff_count(degree);
+        let blocks = std::array::from_fn(|i| beta.rows(i * n, n).as_slice().to_vec());
+        let model = with_torque(truth, &blocks, &[0.0; 6]).expect("model");
+        let pole = ctx.pole;
+        let r = move |e: &Vector3<f64>| {
+            let (y, _) = sh_and_basis(1, e, &pole);
+            Vector3::from_fn(|j, _| (0..4).map(|s| rho[j * 4 + s] * y[s]).sum::<f64>())
+        };
+        (model, r)
+    }
+
+    /// Away from the pole (where eq. 8's basis `E²`, `E³` turns and the
+    /// projection converges slowly) the projected prior is the moment
+    /// `ρ̂(E) × C_F(E)`, and closer the higher the degree.
+    #[test]
+    fn the_prior_map_is_the_moment_of_the_force_about_the_centre_of_pressure() {
+        let truth = truth_model(&ObjectSpec::of(SynthObject::Plate), 6).expect("model");
+        let (ctx, _) = degree_six(&truth);
+        let errors: Vec<f64> = [6u8, 12]
+            .iter()
+            .map(|&d| {
+                let (model, r) = centre_of_pressure_model(&truth.with_degree(d).expect("d"), &ctx);
+                let (mut num, mut den) = (0.0, 0.0);
+                for e in omniad_core::quadrature::fibonacci_sphere(300) {
+                    if e.dot(&ctx.pole).abs() > 0.8 {
+                        continue;
+                    }
+                    let c = model.at_direction(&e).expect("direction");
+                    let want = r(&e).cross(&c.force);
+                    num += (c.torque - want).norm_squared();
+                    den += want.norm_squared();
+                }
+                assert!(den > 0.0);
+                (num / den).sqrt()
+            })
+            .collect();
+        assert!(errors[0] < 0.1 && errors[1] < 0.6 * errors[0], "{errors:?}");
+    }
+
+    #[test]
+    fn the_prior_beats_the_plain_fit_on_noisy_torques_of_a_centre_of_pressure_body() {
+        let plate = truth_model(&ObjectSpec::of(SynthObject::Plate), 6).expect("model");
+        let (ctx, cfg) = degree_six(&plate);
+        let cfg = LsqConfig {
+            extensions: false,
+            ..cfg
+        };
+        let (truth, _) = centre_of_pressure_model(&plate, &ctx);
+        let mut frames = samples(&truth, 600, TakeKind::Drop);
+        let rms = (frames.iter().map(|s| s.torque.norm_squared()).sum::<f64>()
+            / frames.len() as f64)
+            .sqrt();
+        let mut rng = Rng::new(5);
+        for (i, s) in frames.iter_mut().enumerate() {
+            s.take = i % 6;
+            s.torque += Vector3::new(rng.normal(), rng.normal(), rng.normal()) * (0.3 * rms);
+        }
+        let error = |m: &Coefficients<f64>| {
+            let (mut num, mut den) = (0.0, 0.0);
+            for e in omniad_core::quadrature::fibonacci_sphere(300) {
+                let (a, b) = (
+                    m.at_direction(&e).expect("d"),
+                    truth.at_direction(&e).expect("d"),
+                );
+                num += (a.torque - b.torque).norm_squared();
+                den += b.torque.norm_squared();
+            }
+            (num / den).sqrt()
+        };
+        let with_prior = refit_final_torque(&truth, &frames, &ctx, &cfg).expect("refit");
+        let (beta, six, _) = fit_torque(&frames, &ctx, &cfg, TorqueFrames::NoThrust);
+        let plain = with_torque(&truth, &beta, &six).expect("plain");
+        let (a, b) = (error(&with_prior), error(&plain));
+        assert!(a < 0.7 * b, "C_T error with the prior {a}, plain {b}");
+    }
+}
