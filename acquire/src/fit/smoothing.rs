@@ -81,21 +81,9 @@ fn regularise_scaled(
 
 /// The penalty of [`SMOOTHING_GRID`] x `orders` whose fits
 /// without each take predict that take best, on unknowns whose first three
-/// blocks are SH coefficients.
-pub(crate) fn cross_validated(
-    takes: &[Normals],
-    held_out: &[Normals],
-    total: &Normals,
-    orders: &[u32],
-    fallback: Smoothing,
-    degree: usize,
-) -> Smoothing {
-    cross_validated_scored(takes, held_out, total, orders, fallback, degree).1
-}
-
-/// [`cross_validated`] with the chosen penalty's held-out score
+/// blocks are SH coefficients, with its held-out score
 /// ([`crate::fit::select::choose`]).
-pub(crate) fn cross_validated_scored(
+pub(crate) fn cross_validated(
     takes: &[Normals],
     held_out: &[Normals],
     total: &Normals,

@@ -9,7 +9,7 @@ use crate::fit::context::{sh_and_basis, FitContext};
 use crate::fit::damping::{omega_map, with_floor};
 use crate::fit::model::with_torque;
 use crate::fit::normals::{per_take, solve, total, Normals, Rows};
-use crate::fit::smoothing::{cross_validated_scored, regularise, Smoothing, SMOOTHNESS_ORDERS};
+use crate::fit::smoothing::{cross_validated, regularise, Smoothing, SMOOTHNESS_ORDERS};
 use crate::fit::torque_prior::{beta_of, pin_prior, prior_map, with_prior};
 use crate::reconstruct::forces::Sample;
 use nalgebra::{DMatrix, DVector, Vector3};
@@ -119,7 +119,7 @@ fn torque_penalty_scored(takes: &[Normals], total: &Normals, cfg: &LsqConfig) ->
     if !cfg.cross_validate {
         return (f64::INFINITY, fallback);
     }
-    cross_validated_scored(
+    cross_validated(
         takes,
         takes,
         total,
