@@ -134,7 +134,7 @@ fn force_penalty(takes: &[Normals], total: &Normals, cfg: &LsqConfig) -> Smoothi
     let orders = cfg
         .smoothness_order
         .map_or(SMOOTHNESS_ORDERS.to_vec(), |p| vec![p]);
-    cross_validated(takes, held_out, total, &orders, fallback, cfg.degree)
+    cross_validated(takes, held_out, total, &orders, fallback, cfg.degree).1
 }
 
 /// Alpha fitted without each take's frames in turn, with the fixed

@@ -24,4 +24,5 @@ pub mod select;
 pub mod smoothing;
 pub(crate) mod thrust;
 pub(crate) mod torque;
+pub(crate) mod torque_prior;
 pub(crate) mod weights;

@@ -48,9 +48,9 @@ pub fn per_fold<T: Send>(takes: usize, fold: impl Fn(usize) -> T + Sync) -> Opti
     Some(crate::parallel::map(&folds, |_, &t| fold(t)))
 }
 
-/// The first candidate of lowest score (`None` scores lose), or
-/// `fallback` when none scores below infinity.
-pub(crate) fn best<P: Copy>(candidates: &[P], scores: &[Option<f64>], fallback: P) -> P {
+/// The first candidate of lowest score (`None` scores lose) with its
+/// score, or `fallback` (score infinite) when none scores below infinity.
+pub(crate) fn best<P: Copy>(candidates: &[P], scores: &[Option<f64>], fallback: P) -> (f64, P) {
     let mut best = (f64::INFINITY, fallback);
     for (c, s) in candidates.iter().zip(scores) {
         let s = s.unwrap_or(f64::INFINITY);
@@ -58,12 +58,12 @@ pub(crate) fn best<P: Copy>(candidates: &[P], scores: &[Option<f64>], fallback: 
             best = (s, *c);
         }
     }
-    best.1
+    best
 }
 
 /// The candidate penalty whose fits without each take predict that take's
-/// forces best (summed squared error), or `fallback` with fewer than
-/// [`MIN_TAKES`] takes. `takes` and `total` are the fit's (weighted)
+/// forces best (summed squared error), with that held-out score, or
+/// `fallback` (score infinite) with fewer than [`MIN_TAKES`] takes. `takes` and `total` are the fit's (weighted)
 /// normal equations; each held-out take is scored with its entry of
 /// `held_out` (same unknowns, possibly other weights). `regularise(ata, c)`
 /// adds candidate `c`'s smoothing term (scaled from the whole data, so that
@@ -75,7 +75,7 @@ pub(crate) fn choose<P: Copy + Sync>(
     candidates: &[P],
     fallback: P,
     regularise: impl Fn(&mut DMatrix<f64>, P) + Sync,
-) -> P {
+) -> (f64, P) {
     let n = takes.len().min(held_out.len());
     let fold = |c: &P, i: usize, score: f64| {
         let (t, h) = (takes.get(i)?, held_out.get(i)?);
@@ -89,6 +89,6 @@ pub(crate) fn choose<P: Copy + Sync>(
     };
     match held_out_scores(n, candidates, fold) {
         Some(scores) => best(candidates, &scores, fallback),
-        None => fallback,
+        None => (f64::INFINITY, fallback),
     }
 }

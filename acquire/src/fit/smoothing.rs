@@ -81,7 +81,8 @@ fn regularise_scaled(
 
 /// The penalty of [`SMOOTHING_GRID`] x `orders` whose fits
 /// without each take predict that take best, on unknowns whose first three
-/// blocks are SH coefficients.
+/// blocks are SH coefficients, with its held-out score
+/// ([`crate::fit::select::choose`]).
 pub(crate) fn cross_validated(
     takes: &[Normals],
     held_out: &[Normals],
@@ -89,7 +90,7 @@ pub(crate) fn cross_validated(
     orders: &[u32],
     fallback: Smoothing,
     degree: usize,
-) -> Smoothing {
+) -> (f64, Smoothing) {
     let scale = data_scale(&total.ata, 3 * coeff_count(degree));
     let candidates: Vec<Smoothing> = orders
         .iter()

@@ -10,6 +10,7 @@ use crate::fit::damping::{omega_map, with_floor};
 use crate::fit::model::with_torque;
 use crate::fit::normals::{per_take, solve, total, Normals, Rows};
 use crate::fit::smoothing::{cross_validated, regularise, Smoothing, SMOOTHNESS_ORDERS};
+use crate::fit::torque_prior::{beta_of, pin_prior, prior_map, with_prior};
 use crate::reconstruct::forces::Sample;
 use nalgebra::{DMatrix, DVector, Vector3};
 use omniad_core::sh::coeff_count;
@@ -105,12 +106,18 @@ pub fn torque_smoothing(
 
 /// [`torque_smoothing`] from the torque fit's normal equations.
 fn torque_penalty(takes: &[Normals], total: &Normals, cfg: &LsqConfig) -> Smoothing {
+    torque_penalty_scored(takes, total, cfg).1
+}
+
+/// [`torque_penalty`] with its held-out score (summed squared torque
+/// error of the held-out takes, N² m²; infinite without cross-validation).
+fn torque_penalty_scored(takes: &[Normals], total: &Normals, cfg: &LsqConfig) -> (f64, Smoothing) {
     let fallback = Smoothing {
         weight: cfg.smoothing,
         order: 1,
     };
     if !cfg.cross_validate {
-        return fallback;
+        return (f64::INFINITY, fallback);
     }
     cross_validated(
         takes,
@@ -170,15 +177,108 @@ pub(crate) fn solve_torque(
 /// extensions kept: the reconstruction, and with it C_F, are those of the
 /// refinement, whose fits used [`TorqueFrames::Stable`]. `samples` must
 /// be net of the model's named effects, as the refinement's fits were.
-/// Only the least-squares method has it.
+/// Only the least-squares method has it. The torque is fitted plain or
+/// with the centre-of-pressure prior of a degree in [`PRIOR_DEGREES`]
+/// ([`crate::fit::torque_prior`]), whichever cross-validated fit
+/// predicts the held-out takes' torques best (plain without
+/// cross-validation).
 pub fn refit_final_torque(
     model: &Coefficients<f64>,
     samples: &[Sample],
     ctx: &FitContext,
     cfg: &LsqConfig,
 ) -> Result<Coefficients<f64>> {
-    let (beta, damping, _) = fit_torque(samples, ctx, cfg, TorqueFrames::NoThrust);
+    let (takes, total) = torque_normals(samples, ctx, cfg.degree, TorqueFrames::NoThrust);
+    let (plain, smoothing) = torque_penalty_scored(&takes, &total, cfg);
+    let mut best = (plain, None);
+    for k in PRIOR_DEGREES {
+        let problem = prior_problem(&takes, &total, model, ctx, cfg, k);
+        if problem.2 .0 < best.0 {
+            best = (problem.2 .0, Some(problem));
+        }
+    }
+    let (beta, damping) = match best.1 {
+        Some((p, total, (_, sm))) => solve_with_prior(total, cfg, sm, &p),
+        None => solve_torque(total, cfg, smoothing, None),
+    };
     with_torque(model, &beta, &damping)
+}
+
+/// Degrees `K` of the centre of pressure `ρ̂(E)` the final torque fit
+/// tries ([`crate::fit::torque_prior`]), besides no prior; the one whose
+/// cross-validated fit predicts held-out takes' torques best is kept.
+const PRIOR_DEGREES: [usize; 3] = [1, 3, 5];
+
+/// The torque fit's normal equations `takes`, `total` carried to the
+/// prior of degree `k` ([`crate::fit::torque_prior::with_prior`], `C_F`
+/// from `model`): `P`, the total equations, and the cross-validated
+/// smoothing with its held-out score.
+fn prior_problem(
+    takes: &[Normals],
+    total: &Normals,
+    model: &Coefficients<f64>,
+    ctx: &FitContext,
+    cfg: &LsqConfig,
+    k: usize,
+) -> (DMatrix<f64>, Normals, (f64, Smoothing)) {
+    let p = prior_map(model, ctx, cfg.degree, k);
+    let takes: Vec<Normals> = takes.iter().map(|t| with_prior(t, &p)).collect();
+    let mut total = with_prior(total, &p);
+    pin_prior(&mut total, p.ncols());
+    let scored = torque_penalty_scored(&takes, &total, cfg);
+    (p, total, scored)
+}
+
+/// [`fit_torque`] with the centre-of-pressure prior of
+/// [`crate::fit::torque_prior`] of degree `k` (`C_F` from `model`): the
+/// smoothness penalty (cross-validated as in [`fit_torque`]) on the
+/// correction to `ρ̂(E) × C_F(E)` only.
+pub fn fit_torque_with_prior(
+    samples: &[Sample],
+    ctx: &FitContext,
+    cfg: &LsqConfig,
+    which: TorqueFrames,
+    model: &Coefficients<f64>,
+    k: usize,
+) -> ([Vec<f64>; 3], [f64; 6], Smoothing) {
+    let (takes, total) = torque_normals(samples, ctx, cfg.degree, which);
+    let (p, total, (_, smoothing)) = prior_problem(&takes, &total, model, ctx, cfg, k);
+    let (beta, six) = solve_with_prior(total, cfg, smoothing, &p);
+    (beta, six, smoothing)
+}
+
+/// [`solve_torque`] on the unknowns `(c, d, ρ)` of
+/// [`crate::fit::torque_prior::with_prior`]: D fitted jointly and
+/// projected onto positive definite matrices, then `(c, ρ)` refitted with
+/// D fixed; returns `β = c + P ρ` and D.
+pub(crate) fn solve_with_prior(
+    total: Normals,
+    cfg: &LsqConfig,
+    smoothing: Smoothing,
+    p: &DMatrix<f64>,
+) -> ([Vec<f64>; 3], [f64; 6]) {
+    let n = coeff_count(cfg.degree);
+    let Normals { mut ata, atb, .. } = total;
+    regularise(&mut ata, 3, cfg.degree, smoothing);
+    let x = solve(&ata, &atb);
+    let raw: [f64; 6] = std::array::from_fn(|i| x[3 * n + i]);
+    let six = with_floor(&raw, cfg.damping_floor);
+    let keep: Vec<usize> = (0..3 * n).chain(3 * n + 6..ata.nrows()).collect();
+    let d: Vec<usize> = (3 * n..3 * n + 6).collect();
+    let sub = ata.select_rows(&keep).select_columns(&keep);
+    let cross = ata.select_rows(&keep).select_columns(&d);
+    let rhs = atb.select_rows(&keep) - cross * DVector::from_row_slice(&six);
+    let y = solve(&sub, &rhs);
+    // Back to (c, d, ρ) so that beta_of finds ρ last.
+    let mut full = DVector::zeros(ata.nrows());
+    for (v, &i) in y.iter().zip(&keep) {
+        full[i] = *v;
+    }
+    let beta = beta_of(&full, p);
+    (
+        std::array::from_fn(|i| beta.rows(i * n, n).as_slice().to_vec()),
+        six,
+    )
 }
 
 /// One torque equation: `target = sh · β^block + damp · d`.

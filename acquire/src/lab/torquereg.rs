@@ -10,7 +10,10 @@ use super::{say, LabResult};
 use crate::fit::context::FitContext;
 use crate::fit::model::with_torque;
 use crate::fit::smoothing::Smoothing;
-use crate::fit::torque::{solve_torque, torque_normals, torque_smoothing, TorqueFrames};
+use crate::fit::torque::{
+    fit_torque_with_prior, solve_torque, torque_normals, torque_smoothing, TorqueFrames,
+};
+use crate::fit::torque_prior::{beta_of, pin_prior, prior_map, with_prior};
 use crate::reconstruct::forces::Sample;
 use crate::rng::Rng;
 use crate::synth::truth::{read_coefficients, torque_direction_sets, torque_error};
@@ -78,6 +81,37 @@ pub fn run(dir: &Path, out: &mut dyn Write) -> LabResult {
             say!(
                 out,
                 "  torque degree {degree} ({cv:?}): C_T {:.2?}",
+                score(&m)
+            );
+        }
+        let high = crate::fit::config::LsqConfig {
+            degree: 10,
+            ..lsq.clone()
+        };
+        let base10 = crate::fit::model::zero_model(&set.object, 10)?;
+        let (beta, d, sm) = crate::fit::torque::fit_torque(frames, &ctx, &high, which);
+        let m = with_torque(&base10, &beta, &d)?;
+        say!(out, "  torque degree 10 ({sm:?}): C_T {:.2?}", score(&m));
+        let (beta, d, sm) = fit_torque_with_prior(frames, &ctx, &high, which, &fit.model, 3);
+        let m = with_torque(&base10, &beta, &d)?;
+        say!(
+            out,
+            "  torque degree 10 with the prior of degree 3 ({sm:?}): C_T {:.2?}",
+            score(&m)
+        );
+        for k in [1usize, 3, 5] {
+            let (beta, d, sm) = fit_torque_with_prior(frames, &ctx, &lsq, which, &fit.model, k);
+            let m = with_torque(&fit.model, &beta, &d)?;
+            say!(
+                out,
+                "  centre-of-pressure prior, degree {k} ({sm:?}): C_T {:.2?}",
+                score(&m)
+            );
+            let (beta, d) = prior_alone(frames, &ctx, &lsq, which, &fit.model, k);
+            let m = with_torque(&fit.model, &beta, &d)?;
+            say!(
+                out,
+                "    the prior alone (no correction): C_T {:.2?}",
                 score(&m)
             );
         }
@@ -161,6 +195,37 @@ fn solve_with(
     let smoothing = smoothing.unwrap_or_else(|| torque_smoothing(frames, ctx, lsq, which));
     let (_, total) = torque_normals(frames, ctx, lsq.degree, which);
     solve_torque(total, lsq, smoothing, fixed)
+}
+
+/// The torque fit with `β = P ρ` alone (no correction; `ρ̂(E) × C_F(E)`
+/// of degree `k`, [`crate::fit::torque_prior`]) and D, by least squares.
+fn prior_alone(
+    frames: &[Sample],
+    ctx: &FitContext,
+    lsq: &crate::fit::config::LsqConfig,
+    which: TorqueFrames,
+    model: &Coefficients<f64>,
+    k: usize,
+) -> ([Vec<f64>; 3], [f64; 6]) {
+    let (_, total) = torque_normals(frames, ctx, lsq.degree, which);
+    let p = prior_map(model, ctx, lsq.degree, k);
+    let mut nt = with_prior(&total, &p);
+    pin_prior(&mut nt, p.ncols());
+    let n3 = p.nrows();
+    let keep: Vec<usize> = (n3..nt.ata.nrows()).collect();
+    let x = crate::fit::normals::solve(
+        &nt.ata.select_rows(&keep).select_columns(&keep),
+        &nt.atb.select_rows(&keep),
+    );
+    let d: [f64; 6] = std::array::from_fn(|i| x[i]);
+    let mut full = nalgebra::DVector::zeros(nt.ata.nrows());
+    full.rows_mut(n3, x.len()).copy_from(&x);
+    let beta = beta_of(&full, &p);
+    let n = coeff_count(lsq.degree);
+    (
+        std::array::from_fn(|i| beta.rows(i * n, n).as_slice().to_vec()),
+        crate::fit::damping::with_floor(&d, lsq.damping_floor),
+    )
 }
 
 /// β blocks of a lower degree padded with zeros to `degree`'s count.
