@@ -27,7 +27,6 @@
 //! A term well below the pipeline's is not where the error is made; the
 //! largest one that the next does not add to is.
 use super::{say, LabResult};
-use crate::fit::context::FitContext;
 use crate::fit::model::zero_model;
 use crate::pipeline::{self, FitConfig};
 use crate::reconstruct::forces::Sample;
@@ -267,23 +266,7 @@ fn projection(
     let Some(t) = template.first() else {
         return Ok(());
     };
-    let ctx = FitContext::of_set(set);
-    // Eq. (5) at |V| = 1 m/s: F = ½ρL² C_F(E).
-    let q = 0.5 * ctx.air_density * ctx.reference_length.powi(2);
-    let grid: Vec<Sample> = truth
-        .iter()
-        .enumerate()
-        .map(|(i, [e, cf, _])| Sample {
-            take: i % 5,
-            velocity: e.normalize(),
-            angular_velocity: Vector3::zeros(),
-            force: cf * q,
-            force_cov: nalgebra::Matrix3::zeros(),
-            use_force: true,
-            use_torque: true,
-            ..*t
-        })
-        .collect();
+    let grid = super::truth_grid_frames(set, t, truth);
     for degree in [6u8, 8, 10, 12] {
         let base = zero_model(&set.object, degree)?;
         let mut cfg = FitConfig {

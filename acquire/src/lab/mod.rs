@@ -162,3 +162,34 @@ pub(crate) fn fitted_with_truth_by(
         truth_frames,
     })
 }
+
+/// The truth grid (`[E, C_F, C_T]` rows, `synth::truth::read_coefficients`)
+/// as frames at |V| = 1 m/s and no spin, so that a fit of them projects the
+/// truth onto the model's space: eqs. (5) and (6) give F = ½ρL² C_F(E) and
+/// T = ½ρL³ C_T(E) (N, N·m; body frame). The other fields come from
+/// `template`; the rows are spread over five pseudo-takes so that the fits'
+/// leave-one-take-out machinery has takes to leave out.
+pub(crate) fn truth_grid_frames(
+    set: &crate::input::recording::RecordingSet,
+    template: &crate::reconstruct::forces::Sample,
+    truth: &[[nalgebra::Vector3<f64>; 3]],
+) -> Vec<crate::reconstruct::forces::Sample> {
+    let ctx = crate::fit::context::FitContext::of_set(set);
+    let q = 0.5 * ctx.air_density * ctx.reference_length.powi(2);
+    let l = ctx.reference_length;
+    truth
+        .iter()
+        .enumerate()
+        .map(|(i, [e, cf, ct])| crate::reconstruct::forces::Sample {
+            take: i % 5,
+            velocity: e.normalize(),
+            angular_velocity: nalgebra::Vector3::zeros(),
+            force: cf * q,
+            torque: ct * (q * l),
+            force_cov: nalgebra::Matrix3::zeros(),
+            use_force: true,
+            use_torque: true,
+            ..*template
+        })
+        .collect()
+}

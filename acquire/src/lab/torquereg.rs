@@ -139,20 +139,7 @@ fn projection(
         return Ok(());
     };
     let ctx = FitContext::of_set(set);
-    let q = 0.5 * ctx.air_density * ctx.reference_length.powi(3);
-    let grid: Vec<Sample> = truth
-        .iter()
-        .enumerate()
-        .map(|(i, [e, _, ct])| Sample {
-            take: i % 5,
-            velocity: e.normalize(),
-            angular_velocity: Vector3::zeros(),
-            torque: ct * q,
-            use_force: true,
-            use_torque: true,
-            ..*t
-        })
-        .collect();
+    let grid = super::truth_grid_frames(set, t, truth);
     for degree in [6u8, 8, 10, 12] {
         let base = crate::fit::model::zero_model(&set.object, degree)?;
         let lsq = crate::fit::config::LsqConfig {
