@@ -60,7 +60,7 @@ pub fn run(dir: &Path, knobs: &super::Knobs, out: &mut dyn Write) -> LabResult {
         .iter()
         .filter_map(|s| key.get(&(s.take, s.index)).map(|t| (*s, **t)))
         .collect();
-    let true_states = crate::synth::truth::true_trajectories(dir, set)?;
+    let true_states = &w.truth_states;
     let attitude = |states: &[crate::reconstruct::filter::Smoothed], s: &Sample| {
         states
             .get(s.take)
@@ -71,7 +71,7 @@ pub fn run(dir: &Path, knobs: &super::Knobs, out: &mut dyn Write) -> LabResult {
     let turns: Vec<UnitQuaternion<f64>> = pairs
         .iter()
         .map(
-            |(s, _)| match (attitude(&true_states, s), attitude(&fit.reconstruction, s)) {
+            |(s, _)| match (attitude(true_states, s), attitude(&fit.reconstruction, s)) {
                 (Some(t), Some(r)) => t.inverse() * r,
                 _ => UnitQuaternion::identity(),
             },
@@ -95,7 +95,7 @@ pub fn run(dir: &Path, knobs: &super::Knobs, out: &mut dyn Write) -> LabResult {
         (1, "true forces averaged over 3 frames (world frame)"),
         (2, "true forces averaged over 5 frames (world frame)"),
     ] {
-        terms.push((label, averaged(tframes, &true_states, w)));
+        terms.push((label, averaged(tframes, true_states, w)));
     }
     for (label, frames) in &terms {
         let m = pipeline::fit_samples(&base, frames, set, cfg)?;

@@ -134,7 +134,9 @@ pub(crate) struct FittedWithTruth {
     pub cfg: FitConfig,
     /// The pipeline's outcome.
     pub fit: crate::pipeline::FitOutcome,
-    /// The frames of `truth/`'s states.
+    /// `truth/`'s states, one per take.
+    pub truth_states: Vec<crate::reconstruct::filter::Smoothed>,
+    /// The frames (eqs. 9-10) of `truth_states`.
     pub truth_frames: Vec<crate::reconstruct::forces::Sample>,
 }
 
@@ -159,6 +161,7 @@ pub(crate) fn fitted_with_truth_by(
         set,
         cfg,
         fit,
+        truth_states,
         truth_frames,
     })
 }

@@ -88,8 +88,7 @@ impl Study<'_> {
 /// The torque-error decomposition of the set in `dir` (with `truth/`).
 pub fn run(dir: &Path, out: &mut dyn Write) -> LabResult {
     let w = super::fitted_with_truth(dir)?;
-    let (set, fit, tframes) = (w.set, w.fit, w.truth_frames);
-    let states = crate::synth::truth::true_trajectories(dir, &set)?;
+    let (set, fit, tframes, states) = (w.set, w.fit, w.truth_frames, w.truth_states);
     let mut pairs = paired(&set, &tframes, &fit.samples);
     for p in &mut pairs {
         let at = |s: &[crate::reconstruct::filter::Smoothed]| {

@@ -35,6 +35,14 @@ use crate::residual::select::MIN_GAIN;
 /// likelihood terms `-2 ln LR >= n_dof` against its first round).
 pub const MARKER_EXCESS: f64 = 1.0;
 
+/// Each take (index in the set) with a value.
+type PerTake = Vec<(usize, f64)>;
+
+/// Take `k`'s value in `v`.
+fn value(v: &[(usize, f64)], k: usize) -> Option<f64> {
+    v.iter().find(|x| x.0 == k).map(|x| x.1)
+}
+
 /// A take whose markers fit far worse in a round than in the first.
 #[derive(Clone, Debug, PartialEq)]
 pub(crate) struct Broken {
@@ -55,7 +63,7 @@ pub(crate) struct Broken {
 pub(crate) fn broken(first: &[(usize, f64)], now: &[(usize, f64)]) -> Vec<Broken> {
     now.iter()
         .filter_map(|&(take, now)| {
-            let first = first.iter().find(|p| p.0 == take)?.1;
+            let first = value(first, take)?;
             (now - first > MARKER_EXCESS).then_some(Broken { take, first, now })
         })
         .collect()
@@ -102,7 +110,7 @@ pub(crate) fn jumps(prev: &[(usize, f64)], now: &[(usize, f64)]) -> Vec<Jump> {
     let pairs: Vec<Jump> = now
         .iter()
         .filter_map(|&(take, after)| {
-            let before = prev.iter().find(|p| p.0 == take)?.1;
+            let before = value(prev, take)?;
             (before > 0.0 && after > 0.0).then_some(Jump {
                 take,
                 before,
@@ -137,13 +145,6 @@ pub(crate) fn jumps(prev: &[(usize, f64)], now: &[(usize, f64)]) -> Vec<Jump> {
         })
         .cloned()
         .collect()
-}
-
-/// Each take (index in the set) with a value.
-type PerTake = Vec<(usize, f64)>;
-
-fn value(v: &[(usize, f64)], k: usize) -> Option<f64> {
-    v.iter().find(|x| x.0 == k).map(|x| x.1)
 }
 
 /// One round judged take by take: the takes broken by either test, by
