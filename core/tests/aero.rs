@@ -176,15 +176,16 @@ fn a_torque_of_its_own_degree_evaluates_as_that_degrees_sh_sum() {
     for e in directions() {
         let mut y = [0.0; MAX_COEFFS];
         evaluate(10, &e, &mut y);
-        let mut want = [0.0; 6];
-        for i in 0..3 {
-            for k in 0..coeff_count(8) {
-                want[i] += m.alpha(i, k).unwrap() * y[k];
-            }
-            for k in 0..coeff_count(10) {
-                want[3 + i] += m.beta(i, k).unwrap() * y[k];
-            }
-        }
+        let want: [f64; 6] = std::array::from_fn(|set| {
+            let (n, c) = if set < 3 { (8, set) } else { (10, set - 3) };
+            (0..coeff_count(n))
+                .zip(y)
+                .map(|(k, yk)| {
+                    let v = if set < 3 { m.alpha(c, k) } else { m.beta(c, k) };
+                    v.unwrap() * yk
+                })
+                .sum()
+        });
         let got = m.sh_sums(&e);
         for (g, w) in got.iter().zip(want) {
             assert!((g - w).abs() < 1e-12, "{e}: {g} vs {w}");
