@@ -31,8 +31,8 @@ pub struct FitArgs {
     /// SH degree N.
     #[arg(long, default_value_t = 8, value_parser = clap::value_parser!(u8).range(0..=12))]
     pub degree: u8,
-    /// SH degree N_T of the torque (its own; default: chosen among N,
-    /// N+2, N+4 up to 12 by the held-out takes' torque error).
+    /// SH degree N_T of the torque (its own; default: N or N+2, up to 12,
+    /// whichever predicts the held-out takes' torques better).
     #[arg(long, value_parser = clap::value_parser!(u8).range(0..=12))]
     pub torque_degree: Option<u8>,
     /// Fitting method.

@@ -32,9 +32,9 @@ pub struct LsqConfig {
     pub damping_floor: f64,
     /// Required margin of `-C_F(E)·E` (default 1e-3).
     pub thrust_margin: f64,
-    /// SH degree N_T of the final torque fit. `None` (default): chosen
-    /// among N, N+2, N+4 (within the core's maximum) by the held-out takes'
-    /// torque error (`crate::fit::torque::refit_final_torque`).
+    /// SH degree N_T of the final torque fit. `None` (default): N or N+2
+    /// (within the core's maximum), chosen by the held-out takes' torque
+    /// error (`crate::fit::torque::refit_final_torque`).
     pub torque_degree: Option<usize>,
 }
 
