@@ -26,6 +26,10 @@ use nalgebra::{Matrix3, Vector3};
 
 /// The OmniAD coefficients of one object.
 ///
+/// The force (alpha) has degree N ([`Self::degree`]), the torque (beta)
+/// its own N_T ([`Self::torque_degree`], N unless set otherwise); the SH
+/// basis is evaluated once, to `max(N, N_T)` ([`Self::basis_degree`]).
+///
 /// Storage is laid out for evaluation speed ([`crate::lanes`]): rows of the six
 /// sets `[alpha^1..3, beta^1..3]` in the scalar path's walk order, and,
 /// where the scalar type has a SIMD path, a second copy in its lane layout
@@ -34,7 +38,15 @@ use nalgebra::{Matrix3, Vector3};
 #[derive(Clone, Debug, PartialEq)]
 pub struct Coefficients<T: LaneScalar> {
     name: heapless::String<NAME_CAPACITY>,
+    /// SH degree N of the force, alpha (eq. 7).
     degree: u8,
+    /// SH degree N_T of the torque, beta (eq. 8): its own, as an object's
+    /// torque can need a finer angular resolution than its force
+    /// (BENCHMARKS.md, issue 20, C_T stop 21). The rows hold both sets in
+    /// the walk order of [`Self::basis_degree`]; entries above a set's own
+    /// degree stay zero, so they add nothing (not even a rounding: `x + 0·y
+    /// = x` exactly, with or without a fused multiply-add).
+    torque_degree: u8,
     pole: Vector3<T>,
     reference_length: T,
     rows: [[T; SETS]; MAX_COEFFS],
@@ -69,6 +81,7 @@ impl<T: LaneScalar> Coefficients<T> {
         Ok(Self {
             name: heapless::String::new(),
             degree,
+            torque_degree: degree,
             pole,
             reference_length,
             rows: [[T::zero(); SETS]; MAX_COEFFS],
@@ -94,9 +107,24 @@ impl<T: LaneScalar> Coefficients<T> {
         pole: Vector3<T>,
         reference_length: T,
     ) -> Result<(), ModelError> {
+        self.reset_degrees(degree, degree, pole, reference_length)
+    }
+
+    /// [`Self::reset`] with the torque's own degree N_T.
+    pub fn reset_degrees(
+        &mut self,
+        degree: u8,
+        torque_degree: u8,
+        pole: Vector3<T>,
+        reference_length: T,
+    ) -> Result<(), ModelError> {
         let (pole, length) = Self::check_geometry(degree, pole, reference_length)?;
+        if torque_degree as usize > MAX_DEGREE {
+            return Err(ModelError::DegreeTooHigh(torque_degree));
+        }
         self.name.clear();
         self.degree = degree;
+        self.torque_degree = torque_degree;
         self.pole = pole;
         self.reference_length = length;
         self.rows = [[T::zero(); SETS]; MAX_COEFFS];
@@ -142,13 +170,29 @@ impl<T: LaneScalar> Coefficients<T> {
         Ok((pole / len, reference_length))
     }
 
-    /// SH degree N.
+    /// SH degree N of the force (alpha, eq. 7).
     pub fn degree(&self) -> u8 {
         self.degree
     }
-    /// Number of SH coefficients per component, `(N+1)^2`.
+    /// SH degree N_T of the torque (beta, eq. 8).
+    pub fn torque_degree(&self) -> u8 {
+        self.torque_degree
+    }
+    /// The degree the SH basis is evaluated to: `max(N, N_T)`.
+    pub fn basis_degree(&self) -> u8 {
+        self.degree.max(self.torque_degree)
+    }
+    /// Number of force (alpha) coefficients per component, `(N+1)^2`.
     pub fn coeff_count(&self) -> usize {
         sh::coeff_count(self.degree as usize)
+    }
+    /// Number of torque (beta) coefficients per component, `(N_T+1)^2`.
+    pub fn torque_coeff_count(&self) -> usize {
+        sh::coeff_count(self.torque_degree as usize)
+    }
+    /// Rows of storage in use: `(max(N, N_T)+1)^2`.
+    fn row_count(&self) -> usize {
+        sh::coeff_count(self.basis_degree() as usize)
     }
     /// The unit pole Z of the vector basis (body frame).
     pub fn pole(&self) -> Vector3<T> {
@@ -327,24 +371,30 @@ impl<T: LaneScalar> Coefficients<T> {
         self.set(component + 3, k, v, "beta")
     }
 
-    /// Row of standard index `k` at this model's degree.
-    fn row_of(&self, k: usize) -> Option<usize> {
-        if k >= self.coeff_count() {
+    /// Row of standard index `k` of set `set` (alpha 0..3, beta 3..6): in
+    /// the walk order of the basis degree, `None` above the set's degree.
+    fn row_of(&self, set: usize, k: usize) -> Option<usize> {
+        let count = if set < 3 {
+            self.coeff_count()
+        } else {
+            self.torque_coeff_count()
+        };
+        if k >= count {
             return None;
         }
         let (l, m) = sh::degree_order(k);
-        sh::walk_position(l, m, self.degree as usize)
+        sh::walk_position(l, m, self.basis_degree() as usize)
     }
 
     fn get(&self, set: usize, k: usize) -> Option<T> {
-        self.rows.get(self.row_of(k)?)?.get(set).copied()
+        self.rows.get(self.row_of(set, k)?)?.get(set).copied()
     }
 
     fn set(&mut self, set: usize, k: usize, v: T, field: &'static str) -> Result<(), ModelError> {
         if !v.finite() {
             return Err(ModelError::NonFinite(field));
         }
-        let row = self.row_of(k).ok_or(ModelError::OutOfRange(field))?;
+        let row = self.row_of(set, k).ok_or(ModelError::OutOfRange(field))?;
         let slot = self
             .rows
             .get_mut(row)
@@ -363,7 +413,7 @@ impl<T: LaneScalar> Coefficients<T> {
     #[inline]
     pub fn sh_sums(&self, e: &Vector3<T>) -> [T; SETS] {
         if !self.portable {
-            if let Some(sums) = self.simd.accumulate(self.degree as usize, e) {
+            if let Some(sums) = self.simd.accumulate(self.basis_degree() as usize, e) {
                 return sums;
             }
         }
@@ -373,14 +423,14 @@ impl<T: LaneScalar> Coefficients<T> {
     /// [`Self::sh_sums`] by the portable scalar path: what the firmware
     /// runs, identical to the bit on every target.
     pub fn sh_sums_portable(&self, e: &Vector3<T>) -> [T; SETS] {
-        let rows = self.rows.get(..self.coeff_count()).unwrap_or(&[]);
-        sh::accumulate(self.degree as usize, e, rows)
+        let rows = self.rows.get(..self.row_count()).unwrap_or(&[]);
+        sh::accumulate(self.basis_degree() as usize, e, rows)
     }
 
-    /// The portable path's rows in walk order, up to the degree (the batch
-    /// path, [`crate::batch`], streams through them too).
+    /// The portable path's rows in walk order, up to the basis degree (the
+    /// batch path, [`crate::batch`], streams through them too).
     pub(crate) fn portable_rows(&self) -> &[[T; SETS]] {
-        self.rows.get(..self.coeff_count()).unwrap_or(&[])
+        self.rows.get(..self.row_count()).unwrap_or(&[])
     }
 
     /// Evaluate with the portable path only (e.g. to compare results bit
@@ -395,6 +445,7 @@ impl<T: LaneScalar> Coefficients<T> {
         let mut out = Coefficients {
             name: self.name.clone(),
             degree: self.degree,
+            torque_degree: self.torque_degree,
             pole: self.pole.map(c),
             reference_length: c(self.reference_length),
             rows: [[U::zero(); SETS]; MAX_COEFFS],
@@ -419,7 +470,7 @@ impl<T: LaneScalar> Coefficients<T> {
                 })
                 .collect(),
         };
-        for k in 0..self.coeff_count() {
+        for k in 0..self.row_count() {
             for set in 0..SETS {
                 if let Some(v) = self.get(set, k) {
                     // Finite in, finite out (a cast to f32 can overflow to
@@ -431,18 +482,33 @@ impl<T: LaneScalar> Coefficients<T> {
         out
     }
 
-    /// Changes the degree: truncates (drops l > degree) or zero-extends.
+    /// Changes the degree of force and torque alike: truncates (drops
+    /// l > degree) or zero-extends.
     pub fn with_degree(&self, degree: u8) -> Result<Self, ModelError> {
-        if degree as usize > MAX_DEGREE {
-            return Err(ModelError::DegreeTooHigh(degree));
+        self.with_degrees(degree, degree)
+    }
+
+    /// Changes the torque's degree N_T alone (as [`Self::with_degree`]).
+    pub fn with_torque_degree(&self, torque_degree: u8) -> Result<Self, ModelError> {
+        self.with_degrees(self.degree, torque_degree)
+    }
+
+    /// Changes the force's degree to `degree` and the torque's to
+    /// `torque_degree`: truncates (drops l above each) or zero-extends.
+    pub fn with_degrees(&self, degree: u8, torque_degree: u8) -> Result<Self, ModelError> {
+        for d in [degree, torque_degree] {
+            if d as usize > MAX_DEGREE {
+                return Err(ModelError::DegreeTooHigh(d));
+            }
         }
         let mut out = self.clone();
         out.degree = degree;
+        out.torque_degree = torque_degree;
         out.rows = [[T::zero(); SETS]; MAX_COEFFS];
         out.simd = T::Simd::zeroed();
-        for k in 0..out.coeff_count().min(self.coeff_count()) {
+        for k in 0..out.row_count().min(self.row_count()) {
             for set in 0..SETS {
-                if let Some(v) = self.get(set, k) {
+                if let (Some(v), Some(_)) = (self.get(set, k), out.row_of(set, k)) {
                     out.set(set, k, v, "coefficient")?;
                 }
             }

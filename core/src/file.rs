@@ -13,14 +13,22 @@
 //! Nothing may follow the CRC. Numbers in the payload are always `f64`
 //! (fitting precision), converted to the reader's scalar type on decode.
 //!
-//! Payload of version 1, in order: name (str), degree (u8), pole ([f64; 3]),
+//! Payload of version 1, in order: name (str), degree N (u8), pole ([f64; 3]),
 //! reference length (f64), six coefficient sets `alpha^1..3, beta^1..3`
-//! (each: count u16 = (N+1)², then that many f64), D (`[xx,yy,zz,xy,xz,yz]`
+//! (each: count u16, then that many f64; the count is (N+1)² for alpha and
+//! (N_T+1)² for beta, all three beta sets alike, with N_T the torque's own
+//! degree, `0..=MAX_DEGREE`, which the count alone states), D (`[xx,yy,zz,xy,xz,yz]`
 //! f64), mass properties (Option of mass f64 and inertia [f64; 6]),
 //! provenance (method str, source str, frames used u32, frames dropped
 //! u32, force residuals (u8 count, f64s), torque residuals (same), coverage
 //! (u16 count, u16s)), extensions (u8 count, then each kind u16, version
 //! u8, byte count u8, bytes).
+//!
+//! A file whose torque has the force's degree (N_T = N) is byte for byte
+//! what this format always wrote; a reader older than the torque's own
+//! degree refuses one with N_T ≠ N (its beta count is not (N+1)²:
+//! [`FileError::BadCount`] at `beta`) rather than misreading it, so the
+//! layout, and with it the version, is unchanged.
 //!
 //! Decoding fills fixed storage with no allocation and never panics; every
 //! problem is a [`FileError`].
@@ -210,8 +218,12 @@ fn write_payload<T: LaneScalar>(m: &Coefficients<T>, w: &mut Writer<'_>) -> Resu
     w.put(&m.degree())?;
     w.put(&m.pole().map(f).data.0[0])?;
     w.put(&f(m.reference_length()))?;
-    let count = m.coeff_count();
     for set in 0..6 {
+        let count = if set < 3 {
+            m.coeff_count()
+        } else {
+            m.torque_coeff_count()
+        };
         w.put(&(count as u16))?;
         for k in 0..count {
             let v = if set < 3 {
@@ -331,11 +343,15 @@ fn read_payload_v1<T: LaneScalar>(
     }
     let pole = r.finite_array::<3>("pole")?;
     let length = r.finite("reference_length")?;
-    m.reset(degree, Vector3::from(pole.map(c)), c(length))?;
+    let torque_degree = torque_degree_ahead(r, coeff_count(degree as usize))?;
+    m.reset_degrees(degree, torque_degree, Vector3::from(pole.map(c)), c(length))?;
     m.set_name(&name)?;
-    let count = coeff_count(degree as usize);
     for set in 0..6 {
-        let field = if set < 3 { "alpha" } else { "beta" };
+        let (field, count) = if set < 3 {
+            ("alpha", m.coeff_count())
+        } else {
+            ("beta", m.torque_coeff_count())
+        };
         let n: u16 = r.take(field)?;
         if n as usize != count {
             return Err(FileError::BadCount(field));
@@ -363,6 +379,28 @@ fn read_payload_v1<T: LaneScalar>(
     read_provenance(r, &mut m.provenance)?;
     read_extensions(r, m)?;
     Ok(())
+}
+
+/// The torque's degree N_T, read ahead of `r` (which is left where it
+/// is) from the first beta count, past the three alpha sets of `count`
+/// values each: the storage's layout depends on it, so it is known before
+/// any coefficient is stored.
+fn torque_degree_ahead(r: &Reader<'_>, count: usize) -> Result<u8, FileError> {
+    let mut ahead = Reader { rest: r.rest };
+    for _ in 0..3 {
+        let n: u16 = ahead.take("alpha")?;
+        if n as usize != count {
+            return Err(FileError::BadCount("alpha"));
+        }
+        for _ in 0..count {
+            let _: f64 = ahead.take("alpha")?;
+        }
+    }
+    let n: u16 = ahead.take("beta")?;
+    (0..=MAX_DEGREE)
+        .find(|&d| coeff_count(d) == n as usize)
+        .and_then(|d| u8::try_from(d).ok())
+        .ok_or(FileError::BadCount("beta"))
 }
 
 /// Reads provenance into `p`, which must be empty (after `reset`).

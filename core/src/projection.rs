@@ -27,14 +27,14 @@ pub fn project(
 }
 
 /// Writes the projection of `f` (as [`project`]) into alpha and beta of
-/// `model`, at its degree and about its pole; everything else in `model`
+/// `model`, at its degrees (N and N_T) and about its pole; everything else in `model`
 /// is kept.
 pub fn project_into(
     model: &mut Coefficients<f64>,
     mut f: impl FnMut(&Vector3<f64>) -> (Vector3<f64>, Vector3<f64>),
 ) -> Result<(), ModelError> {
     let pole = model.pole();
-    let degree = model.degree() as usize;
+    let degree = model.basis_degree() as usize;
     let mut sums = [[0.0f64; SETS]; MAX_COEFFS];
     let mut y = [0.0; MAX_COEFFS];
     for (e, w) in sphere_quadrature(&pole) {
@@ -55,11 +55,16 @@ pub fn project_into(
             }
         }
     }
-    for (k, row) in sums.iter().enumerate().take(model.coeff_count()) {
+    let (forces, torques) = (model.coeff_count(), model.torque_coeff_count());
+    for (k, row) in sums.iter().enumerate().take(forces.max(torques)) {
         let [a1, a2, a3, b1, b2, b3] = *row;
         for (i, (a, b)) in [(a1, b1), (a2, b2), (a3, b3)].into_iter().enumerate() {
-            model.set_alpha(i, k, a)?;
-            model.set_beta(i, k, b)?;
+            if k < forces {
+                model.set_alpha(i, k, a)?;
+            }
+            if k < torques {
+                model.set_beta(i, k, b)?;
+            }
         }
     }
     Ok(())

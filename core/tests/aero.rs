@@ -130,3 +130,106 @@ fn portable_switch_gives_the_portable_bits() {
         m.sh_sums_portable(&e).map(f32::to_bits)
     );
 }
+
+/// A model whose force has degree 8 and torque degree 10.
+fn mixed_model<T: omniad_core::LaneScalar>() -> Coefficients<T> {
+    let c = T::of_f64;
+    let mut m = Coefficients::<T>::zeros(8, Vector3::new(c(0.1), c(0.3), c(1.0)), c(0.58))
+        .unwrap()
+        .with_torque_degree(10)
+        .unwrap();
+    for k in 0..m.torque_coeff_count() {
+        for i in 0..3 {
+            let v = ((k * 29 + i * 11) % 31) as f64 / 31.0 - 0.5;
+            if k < m.coeff_count() {
+                m.set_alpha(i, k, c(2.0 * v)).unwrap();
+            }
+            m.set_beta(i, k, c(0.3 * v + 0.01)).unwrap();
+        }
+    }
+    m
+}
+
+/// Directions spread over the sphere, the poles included.
+fn directions() -> Vec<Vector3<f64>> {
+    let mut d: Vec<Vector3<f64>> = omniad_core::quadrature::fibonacci_sphere(150).collect();
+    d.extend([
+        Vector3::z(),
+        -Vector3::z(),
+        Vector3::new(0.1, 0.3, 1.0).normalize(),
+    ]);
+    d
+}
+
+/// The torque of degree N_T = 10 is the degree-10 SH sum of its
+/// coefficients, the force of degree 8 the degree-8 one (eqs. 7-8).
+#[test]
+fn a_torque_of_its_own_degree_evaluates_as_that_degrees_sh_sum() {
+    use omniad_core::sh::{coeff_count, evaluate, MAX_COEFFS};
+    let m = mixed_model::<f64>();
+    assert_eq!(
+        (m.degree(), m.torque_degree(), m.basis_degree()),
+        (8, 10, 10)
+    );
+    assert_eq!(m.alpha(0, coeff_count(8)), None);
+    assert!(m.beta(0, coeff_count(10) - 1).is_some());
+    for e in directions() {
+        let mut y = [0.0; MAX_COEFFS];
+        evaluate(10, &e, &mut y);
+        let want: [f64; 6] = std::array::from_fn(|set| {
+            let (n, c) = if set < 3 { (8, set) } else { (10, set - 3) };
+            (0..coeff_count(n))
+                .zip(y)
+                .map(|(k, yk)| {
+                    let v = if set < 3 { m.alpha(c, k) } else { m.beta(c, k) };
+                    v.unwrap() * yk
+                })
+                .sum()
+        });
+        let got = m.sh_sums(&e);
+        for (g, w) in got.iter().zip(want) {
+            assert!((g - w).abs() < 1e-12, "{e}: {g} vs {w}");
+        }
+        // The f32 paths (SIMD where the machine has it, and portable).
+        let m32 = m.cast::<f32>();
+        let e32 = e.cast::<f32>();
+        for sums in [m32.sh_sums(&e32), m32.sh_sums_portable(&e32)] {
+            for (g, w) in sums.iter().zip(want) {
+                assert!((f64::from(*g) - w).abs() < 1e-4, "{e}: {g} vs {w}");
+            }
+        }
+    }
+}
+
+/// Giving the torque a degree of its own changes neither the force nor a
+/// torque whose coefficients stop at the force's degree, bit for bit, on
+/// every path (the extra basis terms have zero weights: `x + 0·y = x`).
+#[test]
+fn the_torque_degree_leaves_the_force_bit_for_bit() {
+    fn check<T: omniad_core::LaneScalar>(portable: bool) {
+        let mut wide = mixed_model::<T>();
+        let mut same = wide.with_torque_degree(8).unwrap();
+        let mut back = same.with_torque_degree(10).unwrap();
+        assert_eq!(same.torque_degree(), 8);
+        for m in [&mut wide, &mut same, &mut back] {
+            m.set_portable(portable);
+        }
+        let w = Vector3::new(T::of_f64(1.0), T::of_f64(0.5), T::of_f64(-2.0));
+        for e in directions() {
+            let e = e.map(T::of_f64);
+            let (a, b, c) = (wide.sh_sums(&e), same.sh_sums(&e), back.sh_sums(&e));
+            let bits = |s: &[T]| s.iter().map(|x| x.as_f64().to_bits()).collect::<Vec<_>>();
+            assert_eq!(bits(&a[..3]), bits(&b[..3]), "force, {e}");
+            assert_eq!(bits(&c), bits(&b), "torque truncated at 8, {e}");
+            let v = e * T::of_f64(3.0);
+            let (fa, fb) = (
+                wide.wrench(&v, &w, T::of_f64(1.2)),
+                same.wrench(&v, &w, T::of_f64(1.2)),
+            );
+            assert_eq!(bits(fa.force.as_slice()), bits(fb.force.as_slice()));
+        }
+    }
+    check::<f32>(false);
+    check::<f32>(true);
+    check::<f64>(false);
+}

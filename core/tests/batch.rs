@@ -31,12 +31,24 @@ impl Rng {
 /// reference the batch must match bit for bit), with or without both
 /// extensions.
 fn model<T: LaneScalar>(n: u8, rng: &mut Rng, extensions: bool) -> Coefficients<T> {
+    model_degrees(n, n, rng, extensions)
+}
+
+/// [`model`] with the torque of its own degree `nt`.
+fn model_degrees<T: LaneScalar>(n: u8, nt: u8, rng: &mut Rng, extensions: bool) -> Coefficients<T> {
     let pole = Vector3::new(0.1, -0.2, 1.0).normalize().map(T::of_f64);
-    let mut m = Coefficients::<T>::zeros(n, pole, T::of_f64(0.58)).unwrap();
-    for k in 0..m.coeff_count() {
+    let mut m = Coefficients::<T>::zeros(n, pole, T::of_f64(0.58))
+        .unwrap()
+        .with_torque_degree(nt)
+        .unwrap();
+    for k in 0..m.coeff_count().max(m.torque_coeff_count()) {
         for i in 0..3 {
-            m.set_alpha(i, k, T::of_f64(rng.next())).unwrap();
-            m.set_beta(i, k, T::of_f64(0.3 * rng.next())).unwrap();
+            if k < m.coeff_count() {
+                m.set_alpha(i, k, T::of_f64(rng.next())).unwrap();
+            }
+            if k < m.torque_coeff_count() {
+                m.set_beta(i, k, T::of_f64(0.3 * rng.next())).unwrap();
+            }
         }
     }
     let d = Matrix3::new(0.03, 0.002, -0.001, 0.002, 0.02, 0.003, -0.001, 0.003, 0.04);
@@ -92,8 +104,18 @@ fn bits<T: LaneScalar>(w: &Wrench<T>) -> Vec<u64> {
 
 fn batch_matches_portable<T: LaneScalar>() {
     let mut rng = Rng(0x9E37_79B9_7F4A_7C15);
-    for (n, ext) in [(8, false), (8, true), (3, false), (12, true), (0, false)] {
-        let m = model::<T>(n, &mut rng, ext);
+    let cases = [
+        (8, 8, false),
+        (8, 8, true),
+        (3, 3, false),
+        (12, 12, true),
+        (0, 0, false),
+        // A torque of its own degree, above and below the force's.
+        (8, 10, false),
+        (10, 6, true),
+    ];
+    for (n, nt, ext) in cases {
+        let m = model_degrees::<T>(n, nt, &mut rng, ext);
         let (v, w) = inputs(&mut rng, m.pole());
         let mut out = vec![Wrench::zero(); v.len()];
         wrench_batch(&m, &v, &w, T::of_f64(1.2), &mut out);

@@ -10,6 +10,9 @@ use omniad_core::{Coefficients, ModelError};
 use proptest::prelude::*;
 
 const GOLDEN_V1: &[u8] = include_bytes!("golden/v1.omni");
+/// Version 1 with a torque of its own degree (N = 4, N_T = 6).
+const GOLDEN_TORQUE6: &[u8] = include_bytes!("golden/v1-torque6.omni");
+const GOLDENS: [&[u8]; 2] = [GOLDEN_V1, GOLDEN_TORQUE6];
 
 fn encoded(m: &Coefficients<f64>) -> Vec<u8> {
     let mut buf = vec![0u8; MAX_FILE_SIZE];
@@ -28,6 +31,7 @@ fn round_trip_is_exact_in_f64() {
 #[test]
 fn largest_model_fits_the_advertised_buffer() {
     let mut m = model::golden_model().with_degree(12).unwrap();
+    assert_eq!(m.torque_degree(), 12);
     m.set_name(&"n".repeat(64)).unwrap();
     for k in 0..m.coeff_count() {
         for i in 0..3 {
@@ -60,28 +64,112 @@ fn golden_v1_decodes_to_the_generator_model_and_reencodes_identically() {
 }
 
 #[test]
-fn every_truncation_is_an_error() {
-    for len in 0..GOLDEN_V1.len() {
-        assert!(
-            decode::<f64>(&GOLDEN_V1[..len]).is_err(),
-            "prefix of {len} bytes decoded"
+fn an_old_file_has_the_torque_at_the_force_degree() {
+    let old: Coefficients<f64> = decode(GOLDEN_V1).unwrap();
+    assert_eq!((old.degree(), old.torque_degree()), (4, 4));
+    assert_eq!(old.torque_coeff_count(), old.coeff_count());
+}
+
+#[test]
+fn golden_torque_degree_decodes_to_the_generator_model_and_reencodes_identically() {
+    let m = model::golden_torque_model();
+    let decoded: Coefficients<f64> = decode(GOLDEN_TORQUE6).unwrap();
+    assert_eq!((decoded.degree(), decoded.torque_degree()), (4, 6));
+    assert_eq!(decoded, m);
+    assert_eq!(encoded(&decoded), GOLDEN_TORQUE6);
+    // The coefficients above the force's degree are the torque's alone.
+    assert_eq!(decoded.beta(2, 48), m.beta(2, 48));
+    assert!(decoded.beta(2, 48).unwrap() != 0.0);
+    assert_eq!(decoded.alpha(0, 25), None);
+    let f32_model: Coefficients<f32> = decode(GOLDEN_TORQUE6).unwrap();
+    assert_eq!(
+        f32_model.beta(1, 40).unwrap(),
+        m.beta(1, 40).unwrap() as f32
+    );
+}
+
+#[test]
+fn round_trip_with_a_torque_degree_of_its_own_is_exact() {
+    for (n, nt) in [(8u8, 10u8), (10, 8), (0, 12), (12, 0), (3, 3)] {
+        let mut m = model::golden_model().with_degrees(n, nt).unwrap();
+        for k in 0..m.torque_coeff_count() {
+            m.set_beta(0, k, k as f64 * 0.01 - 0.3).unwrap();
+        }
+        for k in 0..m.coeff_count() {
+            m.set_alpha(2, k, 0.5 - k as f64 * 0.02).unwrap();
+        }
+        let back: Coefficients<f64> = decode(&encoded(&m)).unwrap();
+        assert_eq!(back, m, "N = {n}, N_T = {nt}");
+    }
+}
+
+/// The payload of `golden` and the offset of its first beta count.
+fn first_beta_count(golden: &[u8], alpha_count: usize) -> (Vec<u8>, usize) {
+    let payload = golden[14..golden.len() - 4].to_vec();
+    let name_len = payload[0] as usize;
+    // name, degree, pole, L; then three alpha sets of a 1-byte count
+    // (< 128) and f64s.
+    let at = 1 + name_len + 1 + 24 + 8 + 3 * (1 + 8 * alpha_count);
+    (payload, at)
+}
+
+#[test]
+fn beta_counts_that_are_no_degree_or_differ_are_rejected() {
+    let (payload, at) = first_beta_count(GOLDEN_TORQUE6, 25);
+    assert_eq!(payload[at], 49);
+    // The second beta set's count differs from the first's.
+    let mut p = payload.clone();
+    p[at + 1 + 8 * 49] = 36;
+    assert_eq!(
+        decode::<f64>(&reframe(&p)),
+        Err(FileError::BadCount("beta"))
+    );
+    // A first count that is no (N_T+1)² (48), or beyond the largest (196).
+    for bad in [48u8, 0] {
+        let mut p = payload.clone();
+        p[at] = bad;
+        assert_eq!(
+            decode::<f64>(&reframe(&p)),
+            Err(FileError::BadCount("beta")),
+            "count {bad}"
         );
+    }
+    // An alpha count off the force's degree.
+    let mut p = payload;
+    p[at - 8 * 25 - 1] = 36;
+    assert_eq!(
+        decode::<f64>(&reframe(&p)),
+        Err(FileError::BadCount("alpha"))
+    );
+}
+
+#[test]
+fn every_truncation_is_an_error() {
+    for golden in GOLDENS {
+        for len in 0..golden.len() {
+            assert!(
+                decode::<f64>(&golden[..len]).is_err(),
+                "prefix of {len} bytes decoded"
+            );
+        }
     }
 }
 
 #[test]
 fn every_single_byte_corruption_is_an_error() {
-    let mut bytes = GOLDEN_V1.to_vec();
-    for i in 0..bytes.len() {
-        let orig = bytes[i];
-        for flip in [0x01u8, 0x80, 0xFF] {
-            bytes[i] = orig ^ flip;
-            assert!(
-                decode::<f64>(&bytes).is_err(),
-                "corrupting byte {i} with {flip:#x} decoded"
-            );
+    for golden in GOLDENS {
+        let mut bytes = golden.to_vec();
+        for i in 0..bytes.len() {
+            let orig = bytes[i];
+            for flip in [0x01u8, 0x80, 0xFF] {
+                bytes[i] = orig ^ flip;
+                assert!(
+                    decode::<f64>(&bytes).is_err(),
+                    "corrupting byte {i} with {flip:#x} decoded"
+                );
+            }
+            bytes[i] = orig;
         }
-        bytes[i] = orig;
     }
 }
 
@@ -161,14 +249,15 @@ proptest! {
     }
 
     #[test]
-    fn arbitrary_corruptions_of_golden_never_decode(edits in proptest::collection::vec((0usize..4096, 1u8..=255), 1..6)) {
-        let mut bytes = GOLDEN_V1.to_vec();
+    fn arbitrary_corruptions_of_golden_never_decode(which in 0usize..2, edits in proptest::collection::vec((0usize..4096, 1u8..=255), 1..6)) {
+        let golden = GOLDENS[which];
+        let mut bytes = golden.to_vec();
         for (i, x) in edits {
             let i = i % bytes.len();
             bytes[i] ^= x;
         }
         // Several edits can in principle cancel out; only then may it decode.
-        if bytes != GOLDEN_V1 {
+        if bytes != golden {
             prop_assert!(decode::<f64>(&bytes).is_err());
         }
     }

@@ -63,8 +63,10 @@ pub struct Example {
 pub struct Library {
     /// The measured (or projected) examples.
     pub examples: Vec<Example>,
-    /// Common SH degree.
+    /// Common SH degree of the force.
     pub degree: u8,
+    /// Common SH degree of the torque (its own, N_T).
+    pub torque_degree: u8,
     /// Common pole (primitive frame).
     pub pole: Vector3<f64>,
 }
@@ -118,17 +120,23 @@ impl Library {
         Self::from_examples(examples)
     }
 
-    /// A library from examples, which must share degree and pole.
+    /// A library from examples, which must share degrees (N and N_T) and
+    /// pole.
     pub fn from_examples(examples: Vec<Example>) -> Result<Self> {
         let Some(first) = examples.first() else {
             bail!("primitive library has no examples");
         };
         let degree = first.coefficients.degree();
+        let torque_degree = first.coefficients.torque_degree();
         let pole = first.coefficients.pole();
         for e in &examples {
-            if e.coefficients.degree() != degree || (e.coefficients.pole() - pole).norm() > 1e-9 {
+            let c = &e.coefficients;
+            if c.degree() != degree
+                || c.torque_degree() != torque_degree
+                || (c.pole() - pole).norm() > 1e-9
+            {
                 bail!(
-                    "{}: degree/pole differ from the first example; examples must share them",
+                    "{}: degree/torque degree/pole differ from the first example; examples must share them",
                     e.file.display()
                 );
             }
@@ -136,6 +144,7 @@ impl Library {
         Ok(Self {
             examples,
             degree,
+            torque_degree,
             pole,
         })
     }
@@ -165,8 +174,9 @@ impl Library {
     pub fn blend(&self, size: &[f64; 3], name: &str) -> Result<Coefficients<f64>> {
         let n = normalise(size).context("primitive size is zero")?;
         let mut out = Coefficients::zeros(self.degree, self.pole, Vector3::from(*size).norm())
+            .and_then(|m| m.with_torque_degree(self.torque_degree))
             .map_err(|e| anyhow::anyhow!("blend: {e}"))?;
-        let count = out.coeff_count();
+        let count = out.coeff_count().max(out.torque_coeff_count());
         let mut damping = Matrix3::zeros();
         for (i, w) in self.weights(&n) {
             let Some(e) = i.and_then(|i| self.examples.get(i)) else {
@@ -175,12 +185,16 @@ impl Library {
             let c = &e.coefficients;
             for comp in 0..3 {
                 for k in 0..count {
-                    let a = out.alpha(comp, k).unwrap_or(0.0) + w * c.alpha(comp, k).unwrap_or(0.0);
-                    let b = out.beta(comp, k).unwrap_or(0.0) + w * c.beta(comp, k).unwrap_or(0.0);
-                    out.set_alpha(comp, k, a)
-                        .map_err(|e| anyhow::anyhow!("blend: {e}"))?;
-                    out.set_beta(comp, k, b)
-                        .map_err(|e| anyhow::anyhow!("blend: {e}"))?;
+                    if let Some(a) = out.alpha(comp, k) {
+                        let a = a + w * c.alpha(comp, k).unwrap_or(0.0);
+                        out.set_alpha(comp, k, a)
+                            .map_err(|e| anyhow::anyhow!("blend: {e}"))?;
+                    }
+                    if let Some(b) = out.beta(comp, k) {
+                        let b = b + w * c.beta(comp, k).unwrap_or(0.0);
+                        out.set_beta(comp, k, b)
+                            .map_err(|e| anyhow::anyhow!("blend: {e}"))?;
+                    }
                 }
             }
             damping += c.damping() * w;

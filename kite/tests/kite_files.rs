@@ -109,6 +109,35 @@ fn overlap_along_the_wind_is_rejected() {
     assert!(ok.reject_overlaps(&ok.orientation()).is_ok());
 }
 
+/// Examples whose torque has its own degree blend at it, beta above the
+/// force's degree included; examples of other degrees are refused.
+#[test]
+fn blending_keeps_the_torque_degree_and_refuses_mixed_ones() {
+    use omniad_kite::library::{Example, Library};
+    let lib = common::library();
+    let example = |nt: u8, scale: f64| {
+        let first = lib.examples[0].clone();
+        let mut c = first.coefficients.with_torque_degree(nt).unwrap();
+        for k in 0..c.torque_coeff_count() {
+            c.set_beta(1, k, scale * (k as f64 + 1.0)).unwrap();
+        }
+        Example {
+            coefficients: c,
+            ..first
+        }
+    };
+    let n = lib.examples[0].coefficients.degree();
+    let nt = n + 2;
+    let one = Library::from_examples(vec![example(nt, 0.01)]).unwrap();
+    let at = one.examples[0].normalised;
+    let blended = one.blend(&[at.x, at.y, at.z], "x").unwrap();
+    assert_eq!((blended.degree(), blended.torque_degree()), (n, nt));
+    let last = blended.torque_coeff_count() - 1;
+    assert!((blended.beta(1, last).unwrap() - 0.01 * (last as f64 + 1.0)).abs() < 1e-12);
+    let err = Library::from_examples(vec![example(nt, 0.01), example(n, 0.02)]).unwrap_err();
+    assert!(format!("{err:#}").contains("torque degree"), "{err:#}");
+}
+
 #[test]
 fn blending_is_exact_at_examples_and_zero_at_no_area_shapes() {
     let lib = common::library();

@@ -29,8 +29,12 @@ pub struct FitArgs {
     #[arg(short, long)]
     pub output: PathBuf,
     /// SH degree N.
-    #[arg(long, default_value_t = 8)]
+    #[arg(long, default_value_t = 8, value_parser = clap::value_parser!(u8).range(0..=12))]
     pub degree: u8,
+    /// SH degree N_T of the torque (its own; default: N or N+2, up to 12,
+    /// whichever predicts the held-out takes' torques better).
+    #[arg(long, value_parser = clap::value_parser!(u8).range(0..=12))]
+    pub torque_degree: Option<u8>,
     /// Fitting method.
     #[arg(long, value_enum, default_value_t = MethodArg::Lsq)]
     pub method: MethodArg,
@@ -130,6 +134,7 @@ pub fn run(a: &FitArgs) -> Result<()> {
         ..FitConfig::default()
     };
     cfg.lsq.extensions = a.extensions == ExtensionsArg::Auto;
+    cfg.lsq.torque_degree = a.torque_degree.map(usize::from);
     let outcome = {
         let bars = Bars::default();
         pipeline::fit(&set, &cfg, &bars).map_err(|e| anyhow::anyhow!("{e}"))?
@@ -150,10 +155,11 @@ pub fn run(a: &FitArgs) -> Result<()> {
 fn summary(o: &FitOutcome, a: &FitArgs, total: f64) {
     let p = &o.model.provenance;
     println!(
-        "wrote {} ({}, degree {})",
+        "wrote {} ({}, degree {}, torque degree {})",
         a.output.display(),
         p.method,
-        a.degree
+        o.model.degree(),
+        o.model.torque_degree()
     );
     for (i, r) in o.iterations.iter().enumerate() {
         let note = if r.rejected {
@@ -258,6 +264,7 @@ fn report(o: &FitOutcome, loaded: f64, total: f64) -> serde_json::Value {
     json!({
         "method": p.method.as_str(),
         "degree": o.model.degree(),
+        "torque_degree": o.model.torque_degree(),
         "frames": {
             "reconstructed": last.map(|r| r.forces.frames),
             "used": p.frames_used,

@@ -73,6 +73,8 @@ fn summary(m: &Coefficients<f64>) -> serde_json::Value {
         "name": m.name(),
         "degree": m.degree(),
         "coefficients_per_component": m.coeff_count(),
+        "torque_degree": m.torque_degree(),
+        "torque_coefficients_per_component": m.torque_coeff_count(),
         "pole": [m.pole().x, m.pole().y, m.pole().z],
         "reference_length_m": m.reference_length(),
         "damping_xx_yy_zz_xy_xz_yz": six_from_symmetric(&m.damping()),
@@ -110,6 +112,11 @@ fn print_text(m: &Coefficients<f64>, s: &serde_json::Value) {
         "degree N:          {} ({} SH coefficients per component)",
         m.degree(),
         m.coeff_count()
+    );
+    println!(
+        "torque degree N_T: {} ({} SH coefficients per component)",
+        m.torque_degree(),
+        m.torque_coeff_count()
     );
     let z = m.pole();
     println!("pole Z (body):     [{:.4}, {:.4}, {:.4}]", z.x, z.y, z.z);

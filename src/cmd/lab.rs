@@ -60,6 +60,10 @@ pub struct Common {
     /// SH degree.
     #[arg(long)]
     pub degree: Option<u8>,
+    /// The torque's own SH degree N_T, forced (default: chosen by held-out
+    /// takes, as `omniad fit`).
+    #[arg(long, value_parser = clap::value_parser!(u8).range(0..=12))]
+    pub torque_degree: Option<u8>,
     /// Order p of the smoothness penalty (default: cross-validated).
     #[arg(long)]
     pub order: Option<u32>,
@@ -159,6 +163,7 @@ impl Common {
             relinearised_iterations: self.relinearised_iterations,
             cross_fit: self.cross_fit,
             degree: self.degree,
+            torque_degree: self.torque_degree,
             order: self.order,
             per_take: self.per_take,
             dump: self.dump.clone(),

@@ -43,10 +43,12 @@ pub fn run(a: &ResidualArgs) -> Result<()> {
         Some(path) => Some(given_model(path, &a.set, &set, a.degree)?),
         None => None,
     };
-    let cfg = FitConfig {
+    let mut cfg = FitConfig {
         degree: given.as_ref().map_or(a.degree.unwrap_or(8), |g| g.degree()),
         ..FitConfig::default()
     };
+    // A given model's refits are at its degrees, the torque's own too.
+    cfg.lsq.torque_degree = given.as_ref().map(|g| usize::from(g.torque_degree()));
     let analysis = {
         let bars = Bars::default();
         analyse(&a.set, &set, &cfg, given.as_ref(), &bars).map_err(|e| anyhow::anyhow!("{e}"))?

@@ -158,10 +158,12 @@ pub fn sweep(
     let mut out = Vec::new();
     for &degree in degrees {
         let start = Instant::now();
-        let cfg = FitConfig {
+        // The paper's figure: force and torque at the one degree N.
+        let mut cfg = FitConfig {
             degree,
             ..FitConfig::default()
         };
+        cfg.lsq.torque_degree = Some(usize::from(degree));
         let fit = pipeline::fit(&train, &cfg, &Silent)
             .map_err(|e| anyhow!("fit at N = {degree}: {e}"))?;
         let fit_seconds = start.elapsed().as_secs_f64();

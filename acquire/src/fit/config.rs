@@ -32,6 +32,10 @@ pub struct LsqConfig {
     pub damping_floor: f64,
     /// Required margin of `-C_F(E)·E` (default 1e-3).
     pub thrust_margin: f64,
+    /// SH degree N_T of the final torque fit. `None` (default): N or N+2
+    /// (within the core's maximum), chosen by the held-out takes' torque
+    /// error (`crate::fit::torque::refit_final_torque`).
+    pub torque_degree: Option<usize>,
 }
 
 impl Default for LsqConfig {
@@ -44,6 +48,7 @@ impl Default for LsqConfig {
             extensions: true,
             damping_floor: 1e-3,
             thrust_margin: 1e-3,
+            torque_degree: None,
         }
     }
 }

@@ -5,6 +5,7 @@ use crate::error::{Error, Result};
 use crate::fit::smoothing::Smoothing;
 use crate::input::recording::Object;
 use omniad_core::coefficients::MassProperties;
+use omniad_core::sh::{coeff_count, MAX_DEGREE};
 use omniad_core::spin_coupling::SpinCoupling;
 use omniad_core::Coefficients;
 
@@ -85,16 +86,29 @@ pub fn with_raw(base: &Coefficients<f64>, raw: &RawModel) -> Result<Coefficients
 }
 
 /// A copy of `base` with the torque part of eqs. (6), (8) replaced:
-/// `beta[i][k]` (basis component i, SH index k) and D as
+/// `beta[i][k]` (basis component i, SH index k; the torque degree N_T is
+/// the one whose `(N_T+1)²` is the blocks' length) and D as
 /// `[d11, d22, d33, d12, d13, d23]`.
 pub fn with_torque(
     base: &Coefficients<f64>,
     beta: &[Vec<f64>; 3],
     damping: &[f64; 6],
 ) -> Result<Coefficients<f64>> {
-    let mut m = base.clone();
+    let count = beta[0].len();
+    let degree = (0..=MAX_DEGREE)
+        .find(|&d| coeff_count(d) == count)
+        .filter(|_| beta.iter().all(|b| b.len() == count))
+        .ok_or_else(|| {
+            Error::Data(format!(
+                "torque blocks of {:?} coefficients are no SH degree's",
+                beta.each_ref().map(Vec::len)
+            ))
+        })?;
+    let mut m = base
+        .with_torque_degree(u8::try_from(degree).unwrap_or(u8::MAX))
+        .map_err(model_error)?;
     for (i, block) in beta.iter().enumerate() {
-        for (k, v) in block.iter().enumerate().take(m.coeff_count()) {
+        for (k, v) in block.iter().enumerate() {
             m.set_beta(i, k, *v).map_err(model_error)?;
         }
     }

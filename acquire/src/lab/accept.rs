@@ -108,6 +108,12 @@ pub fn run(dir: &Path, knobs: &Knobs, out: &mut dyn Write) -> LabResult {
         "last torque fit's smoothing {:?}",
         crate::fit::torque::torque_smoothing(&fit.samples, &ctx, &cfg.lsq, fit.torque_frames)
     );
+    say!(
+        out,
+        "degrees: force N = {}, torque N_T = {}",
+        fit.model.degree(),
+        fit.model.torque_degree()
+    );
     say!(out, "D = {:?}", fit.model.damping());
     say!(out, "fit wall time {fit_time:.2} s");
     Ok(())

@@ -133,7 +133,7 @@ fn study(
 
 /// `m` with its torque part (β and D) times `k`.
 fn scaled_torque(m: &Coefficients<f64>, k: f64) -> crate::Result<Coefficients<f64>> {
-    let n = m.coeff_count();
+    let n = m.torque_coeff_count();
     let beta: [Vec<f64>; 3] =
         std::array::from_fn(|i| (0..n).map(|j| m.beta(i, j).unwrap_or(0.0) * k).collect());
     let six = crate::fit::damping::six(&(m.damping() * k));

@@ -70,6 +70,8 @@ pub struct Knobs {
     pub relinearise_final: Option<usize>,
     /// SH degree.
     pub degree: Option<u8>,
+    /// `LsqConfig::torque_degree`: the final torque fit's N_T, forced.
+    pub torque_degree: Option<u8>,
     /// `LsqConfig::smoothness_order`.
     pub order: Option<u32>,
     /// Per-take errors of the last iteration too (accept).
@@ -117,6 +119,9 @@ impl Knobs {
         }
         if let Some(d) = self.degree {
             cfg.degree = d;
+        }
+        if let Some(d) = self.torque_degree {
+            cfg.lsq.torque_degree = Some(usize::from(d));
         }
         if let Some(p) = self.order {
             cfg.lsq.smoothness_order = Some(p);

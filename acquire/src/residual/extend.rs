@@ -44,12 +44,13 @@ fn with_coefficients(
         }
     }
     if let Some(t) = torque {
+        let nt = m.torque_coeff_count();
         for i in 0..3 {
-            for k in 0..n {
-                m.set_beta(i, k, t[i * n + k]).map_err(model_error)?;
+            for k in 0..nt {
+                m.set_beta(i, k, t[i * nt + k]).map_err(model_error)?;
             }
         }
-        let raw: [f64; 6] = std::array::from_fn(|j| t[3 * n + j]);
+        let raw: [f64; 6] = std::array::from_fn(|j| t[3 * nt + j]);
         m.set_damping(&matrix(&with_floor(&raw, damping_floor)))
             .map_err(model_error)?;
     }

@@ -54,30 +54,32 @@ pub(crate) fn stored(model: &Coefficients<f64>, c: Candidate) -> Option<Vec<f64>
 /// `model`'s force unknowns `(α¹, α², α³)` and torque unknowns `(β¹, β²,
 /// β³, d11, d22, d33, d12, d13, d23)` in the joint problems' order.
 fn unknowns(model: &Coefficients<f64>) -> Result<(DVector<f64>, DVector<f64>)> {
-    let n = model.coeff_count();
+    let (n, nt) = (model.coeff_count(), model.torque_coeff_count());
     let get = |v: Option<f64>| v.ok_or_else(|| Error::Data("coefficient out of range".into()));
     let mut a = DVector::zeros(3 * n);
-    let mut b = DVector::zeros(3 * n + 6);
+    let mut b = DVector::zeros(3 * nt + 6);
     for i in 0..3 {
         for k in 0..n {
             a[i * n + k] = get(model.alpha(i, k))?;
-            b[i * n + k] = get(model.beta(i, k))?;
+        }
+        for k in 0..nt {
+            b[i * nt + k] = get(model.beta(i, k))?;
         }
     }
     let six = omniad_core::math::six_from_symmetric(&model.damping());
     for (j, v) in six.into_iter().enumerate() {
-        b[3 * n + j] = v;
+        b[3 * nt + j] = v;
     }
     Ok((a, b))
 }
 
 /// Holds both problems' base unknowns at `model` (and its stored effects
-/// at their values). `p` must be built at `model`'s degree.
+/// at their values). `p` must be built at `model`'s degrees (N, N_T).
 pub(crate) fn hold(p: Problems, model: &Coefficients<f64>) -> Result<Problems> {
     let (a, b) = unknowns(model)?;
     if a.len() != p.force.base || b.len() != p.torque.base {
         return Err(Error::Data(
-            "the given model's degree does not match the analysis's".into(),
+            "the given model's degrees do not match the analysis's".into(),
         ));
     }
     let mut held = Vec::new();

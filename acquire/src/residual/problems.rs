@@ -64,15 +64,17 @@ fn all_columns(
 }
 
 /// Builds the problems from the base fit's frames, reconstruction and
-/// smoothing.
+/// smoothing, the force at SH degree `degrees.0` and the torque at its own
+/// `degrees.1` (a model's N and N_T).
 pub(crate) fn build(
     samples: &[Sample],
     rec: &[Smoothed],
     fit: &FitContext,
     cols: &ColumnContext<'_>,
-    degree: usize,
+    degrees: (usize, usize),
     smoothing: FitSmoothing,
 ) -> Problems {
+    let (degree, torque_degree) = degrees;
     let n = coeff_count(degree);
     let frames = force_frames(samples);
     let weights = force_weights(&frames);
@@ -105,7 +107,7 @@ pub(crate) fn build(
     let mut torque_frames = Vec::new();
     for s in samples.iter().filter(|s| s.use_torque) {
         let (_, ct) = all_columns(s, rec, cols);
-        let (base, target, axes) = crate::fit::torque::dense_rows(s, fit, degree);
+        let (base, target, axes) = crate::fit::torque::dense_rows(s, fit, torque_degree);
         if ct.iter().chain(base.iter()).any(|v| !v.is_finite()) {
             continue;
         }
@@ -127,7 +129,7 @@ pub(crate) fn build(
     }
     Problems {
         force: Joint::new(force_frames_out, degree, smoothing.force),
-        torque: Joint::new(torque_frames, degree, smoothing.torque),
+        torque: Joint::new(torque_frames, torque_degree, smoothing.torque),
         offsets,
         force_samples,
     }

@@ -106,7 +106,7 @@ fn prepare(
     base_cfg.filter.wind = effects.wind.unwrap_or_else(Vector3::zeros);
     base_cfg.effects = effects.effects.clone();
     let outcome = fit(set, &base_cfg, progress)?;
-    let (model, p) = problems_of(set, cfg, &outcome, given, &[], progress)?;
+    let (model, p) = problems_of(set, &outcome, given, &[], progress)?;
     Ok((outcome, model, p))
 }
 
@@ -114,7 +114,6 @@ fn prepare(
 /// the states of `outcome`, without the frames of the takes in `skip`.
 fn problems_of(
     set: &RecordingSet,
-    cfg: &FitConfig,
     outcome: &FitOutcome,
     given: Option<&Coefficients<f64>>,
     skip: &[usize],
@@ -155,7 +154,10 @@ fn problems_of(
         &outcome.reconstruction,
         &ctx,
         &cols,
-        usize::from(given.map_or(cfg.degree, |g| g.degree())),
+        (
+            usize::from(model.degree()),
+            usize::from(model.torque_degree()),
+        ),
         smoothing,
     );
     let p = match given {
@@ -304,7 +306,7 @@ fn without(
     given: Option<&Coefficients<f64>>,
     progress: &dyn Progress,
 ) -> Round {
-    let again = problems_of(set, cfg, &r.outcome, given, skip, progress).and_then(|(m, p)| {
+    let again = problems_of(set, &r.outcome, given, skip, progress).and_then(|(m, p)| {
         let (sel, ext) = select_on(set, cfg, &p, &m, r.null.as_ref(), progress)?;
         Ok((p, sel, ext))
     });

@@ -145,7 +145,7 @@ impl<T: LaneScalar> Coefficients<T> {
         if near_pole {
             pole_lanes(&mut b, e, &pole, &fast, valid);
         }
-        let s = sums(self.degree() as usize, self.portable_rows(), e);
+        let s = sums(self.basis_degree() as usize, self.portable_rows(), e);
         let [a1, a2, a3, t1, t2, t3] = s;
         (combine(&b, [a1, a2, a3]), combine(&b, [t1, t2, t3]))
     }

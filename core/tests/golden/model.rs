@@ -47,3 +47,18 @@ pub fn golden_model() -> Coefficients<f64> {
     m.add_extension(ext).expect("fits");
     m
 }
+
+/// [`golden_model`] with a torque of its own degree, 6 (the force keeps
+/// 4): beta above degree 4 filled too.
+#[allow(dead_code)] // not every includer uses it
+pub fn golden_torque_model() -> Coefficients<f64> {
+    let mut m = golden_model().with_torque_degree(6).expect("valid");
+    m.set_name("golden N_T = 6").expect("fits");
+    for k in 0..m.torque_coeff_count() {
+        for i in 0..3 {
+            let v = ((k * 13 + i * 7) % 19) as f64 / 19.0 - 0.5;
+            m.set_beta(i, k, v * 0.25).expect("in range");
+        }
+    }
+    m
+}

@@ -261,6 +261,7 @@ fn budgets(
         frame_instructions_bench: per_rep("frame_insns_milli").unwrap_or(f64::NAN),
         decode_instructions: bench.get("decode_insns").copied(),
         model_degree: model.degree(),
+        model_torque_degree: model.torque_degree(),
         instructions_per_systick_tick: f64::from(s.insns_per_tick_milli) / 1000.0,
         within: Within {
             flash: flash <= limits.flash_bytes,

@@ -126,6 +126,8 @@ pub struct Budgets {
     /// Decoding the coefficient file.
     pub decode_instructions: Option<f64>,
     pub model_degree: u8,
+    /// The torque's own SH degree N_T.
+    pub model_torque_degree: u8,
     pub instructions_per_systick_tick: f64,
     pub limits: Limits,
     pub within: Within,

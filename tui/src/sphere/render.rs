@@ -289,6 +289,8 @@ fn render_readout(v: &SphereView, m: &Model, theme: Theme, area: Rect, buf: &mut
         Line::from(vec![
             Span::styled("N ", theme.dim()),
             Span::raw(format!("{}  ", c.degree())),
+            Span::styled("N_T ", theme.dim()),
+            Span::raw(format!("{}  ", c.torque_degree())),
             Span::styled("L ", theme.dim()),
             Span::raw(format!("{:.3} m  ", c.reference_length())),
             Span::styled("mode ", theme.dim()),
