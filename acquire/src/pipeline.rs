@@ -138,10 +138,10 @@ pub struct IterationReport {
     pub extension_test: Option<ExtensionTest>,
     /// The smoothness penalties the least-squares fit chose.
     pub smoothing: Option<FitSmoothing>,
-    /// The takes (indices in the set) whose reconstruction with this
-    /// iteration's model missed their markers by more than their noise
-    /// beyond the previous iteration's, and which kept that one
-    /// (`pipeline::carry`).
+    /// The takes (indices in the set) whose fresh reconstruction with this
+    /// iteration's model missed their markers over a stretch by more than
+    /// their noise beyond the previous iteration's, and which kept its
+    /// pose branch (`pipeline::carry`).
     pub kept_previous: Vec<usize>,
 }
 
@@ -396,8 +396,8 @@ fn first_reconstruction(
 }
 
 /// Iteration `it`'s reconstruction with `model` and `noise` (after the
-/// first, refined from `previous`, the last kept iteration's, see
-/// [`carry`]; with the takes that kept their previous reconstruction), and
+/// first, checked against `previous`, the last kept iteration's, see
+/// [`carry`]; with the takes that kept its pose branch), and
 /// its frames (eqs. 9-10) weighed by what the markers alone say about them: the
 /// first, model-free reconstruction's covariances (kept in `markers_only`,
 /// see [`with_markers_only_covariances`]) plus the velocity's spread

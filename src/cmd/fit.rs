@@ -172,7 +172,7 @@ fn summary(o: &FitOutcome, a: &FitArgs, total: f64) {
             String::new()
         } else {
             format!(
-                "; kept the previous reconstruction of {} (this model's missed its markers)",
+                "; {} kept the previous pose branch (this model's run missed their markers)",
                 kept.join(", ")
             )
         };

@@ -139,8 +139,7 @@ pub fn first(
 ) -> Result<First> {
     let start = vec![Some(1.0); set.takes.len()];
     let models = TakeModels::shared(model);
-    let (mut smoothed, mut scales, troubles) =
-        track(set, &models, noise, cfg, (&start, &[]), progress)?;
+    let (mut smoothed, mut scales, troubles) = track(set, &models, noise, cfg, &start, progress)?;
     let mut left_out = Vec::new();
     for (i, t) in troubles.into_iter().enumerate() {
         if let (Some(why), Some(take)) = (t.implausible, set.takes.get(i)) {
@@ -168,27 +167,23 @@ pub fn first(
 /// times [`WRENCH_SCALES`] (the fitted model may still lack a strong
 /// effect, and the refined noise is smaller than the first's); nothing is
 /// left out (the refinement rejects an iteration that went astray).
-/// A take with a reconstruction in `previous` (the iteration before's,
-/// one per take; may be empty) is refined from it, keeping its
-/// mirror-image branch and cuts (`Filter::refine`; why:
-/// `pipeline::carry`). `scales` is updated.
+/// `scales` is updated.
 pub fn again(
     set: &RecordingSet,
     models: &TakeModels<'_>,
     noise: ProcessNoise,
     cfg: &FilterConfig,
-    (scales, previous): (&mut Vec<Option<f64>>, &[Smoothed]),
+    scales: &mut Vec<Option<f64>>,
     progress: &dyn Progress,
 ) -> Result<Vec<Smoothed>> {
-    let (smoothed, new, _) = track(set, models, noise, cfg, (scales, previous), progress)?;
+    let (smoothed, new, _) = track(set, models, noise, cfg, scales, progress)?;
     *scales = new;
     Ok(smoothed)
 }
 
 type Tracked = (Vec<Smoothed>, Vec<Option<f64>>, Vec<Trouble>);
 
-/// Every take in `start` reconstructed at its scale (refined from its
-/// reconstruction in `previous` where it has one), each that lost track
+/// Every take in `start` reconstructed at its scale, each that lost track
 /// again at its scale times the next of [`WRENCH_SCALES`] while that
 /// lowers its [`Trouble`].
 fn track(
@@ -196,11 +191,11 @@ fn track(
     models: &TakeModels<'_>,
     noise: ProcessNoise,
     cfg: &FilterConfig,
-    (start, previous): (&[Option<f64>], &[Smoothed]),
+    start: &[Option<f64>],
     progress: &dyn Progress,
 ) -> Result<Tracked> {
     let mut scales = start.to_vec();
-    let mut smoothed = refine_takes(set, models, noise, cfg, previous, &scales, progress)?;
+    let mut smoothed = refine_takes(set, models, noise, cfg, &[], &scales, progress)?;
     let empty = Smoothed::default();
     let mut troubles: Vec<Trouble> = (0..set.takes.len())
         .map(|i| match scales.get(i) {
@@ -217,7 +212,7 @@ fn track(
         if retry.iter().all(Option::is_none) {
             break;
         }
-        let again = refine_takes(set, models, noise, cfg, previous, &retry, &Silent)?;
+        let again = refine_takes(set, models, noise, cfg, &[], &retry, &Silent)?;
         for (i, s) in again.into_iter().enumerate() {
             let Some(k) = retry.get(i).copied().flatten() else {
                 continue;

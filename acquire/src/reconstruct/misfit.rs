@@ -33,10 +33,27 @@ pub(crate) fn misfit(
     set: &RecordingSet,
     take: &Take,
     s: &Smoothed,
-    (pixel_noise, pose_noise): (f64, f64),
+    noise: (f64, f64),
 ) -> Option<f64> {
-    let (mut sum, mut n) = (0.0, 0.0);
+    let (sum, n) = per_epoch(set, take, s, noise)?
+        .into_iter()
+        .fold((0.0, 0.0), |(a, b), (x, y)| (a + x, b + y));
+    let m = sum / n;
+    (n > 0.0 && m.is_finite()).then_some(m)
+}
+
+/// Per epoch of `take` with a state in `s`: the sum of `|r|² / σ²` over its
+/// observations and their degrees of freedom (see [`misfit`]); `None`
+/// for marker observations without a camera.
+fn per_epoch(
+    set: &RecordingSet,
+    take: &Take,
+    s: &Smoothed,
+    (pixel_noise, pose_noise): (f64, f64),
+) -> Option<Vec<(f64, f64)>> {
+    let mut out = Vec::with_capacity(s.states.len());
     for (epoch, state) in take.epochs.iter().zip(&s.states) {
+        let (mut sum, mut n) = (0.0, 0.0);
         match &epoch.observation {
             Observation::Markers(seen) => {
                 let camera = set.camera.as_ref()?;
@@ -57,20 +74,62 @@ pub(crate) fn misfit(
                 n += 3.0;
             }
         }
+        out.push((sum, n));
     }
-    let m = sum / n;
-    (n > 0.0 && m.is_finite()).then_some(m)
+    Some(out)
+}
+
+/// The largest rise of the misfit per degree of freedom from `before` to
+/// `now` (two reconstructions of `take`) over any `window` consecutive
+/// epochs, in noise variances: a reconstruction that left the markers'
+/// pose branch for a stretch misses them there by tens of pixels, which
+/// the whole take's mean would dilute by its length. `None` when either
+/// has no misfit (no states, a different length, nothing observed); a
+/// window whose rise is not a number counts as `INFINITY`.
+pub(crate) fn stretch_rise(
+    set: &RecordingSet,
+    take: &Take,
+    (now, before): (&Smoothed, &Smoothed),
+    noise: (f64, f64),
+    window: usize,
+) -> Option<f64> {
+    let a = per_epoch(set, take, now, noise)?;
+    let b = per_epoch(set, take, before, noise)?;
+    if a.len() != b.len() || a.is_empty() {
+        return None;
+    }
+    let mut worst = f64::NEG_INFINITY;
+    for (wa, wb) in a
+        .windows(window.clamp(1, a.len()))
+        .zip(b.windows(window.clamp(1, b.len())))
+    {
+        let sum = |w: &[(f64, f64)]| w.iter().fold((0.0, 0.0), |(s, n), (x, y)| (s + x, n + y));
+        let ((sa, na), (sb, nb)) = (sum(wa), sum(wb));
+        if na > 0.0 && nb > 0.0 {
+            let rise = sa / na - sb / nb;
+            worst = worst.max(if rise.is_nan() { f64::INFINITY } else { rise });
+        }
+    }
+    (worst > f64::NEG_INFINITY).then_some(worst)
 }
 
 /// [`misfit`] of every take of `set` (index in the set; takes without a
 /// reconstruction are skipped), with the camera's pixel noise and the
 /// filter's pose-position noise `pose_noise` (m).
 pub(crate) fn per_take(set: &RecordingSet, rec: &[Smoothed], pose_noise: f64) -> Vec<(usize, f64)> {
-    let pixel = set.camera.as_ref().map_or(1.0, |c| c.pixel_noise);
+    let noise = noises(set, pose_noise);
     set.takes
         .iter()
         .zip(rec)
         .enumerate()
-        .filter_map(|(i, (t, s))| misfit(set, t, s, (pixel, pose_noise)).map(|r| (i, r)))
+        .filter_map(|(i, (t, s))| misfit(set, t, s, noise).map(|r| (i, r)))
         .collect()
+}
+
+/// The observations' noise of `set` for [`misfit`]: the camera's pixel
+/// noise (px; 1 without a camera) and the pose-position noise `pose_noise`
+/// (m).
+pub(crate) fn noises(set: &RecordingSet, pose_noise: f64) -> (f64, f64) {
+    let pixel = set.camera.as_ref().map_or(1.0, |c| c.pixel_noise);
+    (pixel, pose_noise)
 }

@@ -13,6 +13,8 @@ pub(crate) use crate::reconstruct::misfit::per_take;
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::input::recording::RecordingSet;
+    use crate::reconstruct::filter::Smoothed;
     use crate::residual::null::tests::truth;
     use crate::residual::refit::takes::{broken, MARKER_EXCESS};
     use crate::synth::write::generate;
