@@ -395,6 +395,10 @@ fn first_reconstruction(
     Ok(out.smoothed)
 }
 
+/// An iteration's reconstruction, its frames, their counts and the takes
+/// that kept the previous pose branch ([`weighed_frames`]).
+type Weighed = (Vec<Smoothed>, Vec<Sample>, ForceStats, Vec<usize>);
+
 /// Iteration `it`'s reconstruction with `model` and `noise` (after the
 /// first, checked against `previous`, the last kept iteration's, see
 /// [`carry`]; with the takes that kept its pose branch), and
@@ -410,7 +414,7 @@ fn weighed_frames(
     it: usize,
     (markers_only, takes, previous): (&mut Option<Vec<Smoothed>>, &mut Takes, &[Smoothed]),
     progress: &dyn Progress,
-) -> Result<(Vec<Smoothed>, Vec<Sample>, ForceStats, Vec<usize>)> {
+) -> Result<Weighed> {
     progress.stage(
         &format!("iteration {}/{}: filter + smoother", it + 1, cfg.iterations),
         set.takes.len(),
