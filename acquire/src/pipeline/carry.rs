@@ -13,16 +13,17 @@
 //!
 //! Why a fresh run first and not always the refinement from the previous
 //! states: the fresh run tests the pose branches again with the fitted
-//! model, and on most takes that *corrects* the first, model-free
+//! model, and on some takes that *corrects* the first, model-free
 //! reconstruction's choices; refining every take from the previous states
 //! keeps those choices for good, and on box `added_mass=1.0` seed 1 that
-//! left `drop-01` 50° and `drop-03`, `drop-05` 11° off (lab accept: C_F
-//! 30.9 -> 18.9 % only because the refit rounds then stopped; held-out
-//! force 0.088 -> 0.322 N; BENCHMARKS.md issue 15, stop 21). But the
-//! branch tests predict with the iteration's model, and some fitted models
-//! made them take the wrong branch and keep it for a hundred frames (same
-//! set, a refit round's third iteration, `drop-05`: 132° off, markers
-//! missed by 35 px; stop 20), which the markers show plainly.
+//! left `drop-01` 50° and `drop-03`, `drop-05` 11° off (states 17.8° RMS
+//! off the truth instead of 1.6°; `residual` then selected nothing,
+//! held-out force 0.322 N instead of 0.088 N; BENCHMARKS.md issue 15,
+//! stop 21). But the branch tests predict with the iteration's model, and
+//! some fitted models made them take the wrong branch and keep it for a
+//! hundred frames (same set, a refit round's third iteration, `drop-05`:
+//! 132° off, markers missed by 35 px; stop 20), which the markers show
+//! plainly.
 
 use crate::error::Result;
 use crate::input::recording::{RecordingSet, Take};
