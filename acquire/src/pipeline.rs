@@ -1,6 +1,7 @@
 //! The acquisition pipeline with iterative refinement (§6): reconstruct
 //! every take with the current model, reconstruct forces, fit, repeat.
 
+mod carry;
 mod cross_fit;
 mod diagnose;
 mod process_effects;
@@ -16,7 +17,7 @@ use crate::fit::torque::{refit_final_torque, TorqueFrames};
 use crate::fit::weights::{add_velocity_spread, with_markers_only_covariances};
 use crate::input::recording::RecordingSet;
 use crate::reconstruct::filter::{FilterConfig, FilterStats, Smoothed};
-use crate::reconstruct::first::{again, first, LeftOut};
+use crate::reconstruct::first::{first, LeftOut};
 use crate::reconstruct::forces::{ForceStats, Sample};
 use crate::reconstruct::noise::{initial_noise, next_noise, ProcessNoise};
 use crate::reconstruct::run::{samples_in_wind, Progress, TakeModels};
@@ -137,6 +138,11 @@ pub struct IterationReport {
     pub extension_test: Option<ExtensionTest>,
     /// The smoothness penalties the least-squares fit chose.
     pub smoothing: Option<FitSmoothing>,
+    /// The takes (indices in the set) whose fresh reconstruction with this
+    /// iteration's model missed their markers over a stretch by more than
+    /// their noise beyond the previous iteration's, and which kept its
+    /// pose branch (`pipeline::carry`).
+    pub kept_previous: Vec<usize>,
 }
 
 /// An iteration is rejected (see [`fit`]) when its force or torque residual
@@ -234,7 +240,8 @@ pub fn fit(set: &RecordingSet, cfg: &FitConfig, progress: &dyn Progress) -> Resu
     let mut own: Vec<Coefficients<f64>> = Vec::new();
     for it in 0..cfg.iterations {
         let start = Instant::now();
-        let (smoothed, frames, fstats) = weighed_frames(
+        let previous = best.as_ref().map_or(&[][..], |b| &b.1[..]);
+        let (smoothed, frames, fstats, kept_previous) = weighed_frames(
             set,
             &TakeModels {
                 shared: &model,
@@ -243,7 +250,7 @@ pub fn fit(set: &RecordingSet, cfg: &FitConfig, progress: &dyn Progress) -> Resu
             noise,
             cfg,
             it,
-            (&mut markers_only, &mut takes),
+            (&mut markers_only, &mut takes, previous),
             progress,
         )?;
         progress.stage(&format!("iteration {}/{}: fit", it + 1, cfg.iterations), 1);
@@ -277,6 +284,7 @@ pub fn fit(set: &RecordingSet, cfg: &FitConfig, progress: &dyn Progress) -> Resu
             rejected: false,
             extension_test: details.extension_test,
             smoothing: details.smoothing,
+            kept_previous,
         };
         if iterations.is_empty() {
             if let Some(why) = diverged(&report, set, &smoothed) {
@@ -387,8 +395,14 @@ fn first_reconstruction(
     Ok(out.smoothed)
 }
 
-/// Iteration `it`'s reconstruction with `model` and `noise`, and its frames
-/// (eqs. 9-10) weighed by what the markers alone say about them: the
+/// An iteration's reconstruction, its frames, their counts and the takes
+/// that kept the previous pose branch ([`weighed_frames`]).
+type Weighed = (Vec<Smoothed>, Vec<Sample>, ForceStats, Vec<usize>);
+
+/// Iteration `it`'s reconstruction with `model` and `noise` (after the
+/// first, checked against `previous`, the last kept iteration's, see
+/// [`carry`]; with the takes that kept its pose branch), and
+/// its frames (eqs. 9-10) weighed by what the markers alone say about them: the
 /// first, model-free reconstruction's covariances (kept in `markers_only`,
 /// see [`with_markers_only_covariances`]) plus the velocity's spread
 /// through the model's slope.
@@ -398,9 +412,9 @@ fn weighed_frames(
     noise: ProcessNoise,
     cfg: &FitConfig,
     it: usize,
-    (markers_only, takes): (&mut Option<Vec<Smoothed>>, &mut Takes),
+    (markers_only, takes, previous): (&mut Option<Vec<Smoothed>>, &mut Takes, &[Smoothed]),
     progress: &dyn Progress,
-) -> Result<(Vec<Smoothed>, Vec<Sample>, ForceStats)> {
+) -> Result<Weighed> {
     progress.stage(
         &format!("iteration {}/{}: filter + smoother", it + 1, cfg.iterations),
         set.takes.len(),
@@ -409,10 +423,12 @@ fn weighed_frames(
     if it.saturating_add(cfg.relinearised_iterations) < cfg.iterations {
         filter.relinearise = 0;
     }
-    let smoothed = if markers_only.is_none() {
-        first_reconstruction(set, models.shared, noise, &filter, takes, progress)?
+    let (smoothed, kept_previous) = if markers_only.is_none() {
+        let first = first_reconstruction(set, models.shared, noise, &filter, takes, progress)?;
+        (first, Vec::new())
     } else {
-        again(set, models, noise, &filter, &mut takes.scales, progress)?
+        let carried = (&mut takes.scales, previous);
+        carry::reconstruct(set, models, noise, &filter, carried, progress)?
     };
     let mut fstats = ForceStats::default();
     let weighed = markers_only
@@ -431,7 +447,7 @@ fn weighed_frames(
             "no usable frames: every frame failed the stability tests".into(),
         ));
     }
-    Ok((smoothed, frames, fstats))
+    Ok((smoothed, frames, fstats, kept_previous))
 }
 
 /// Largest non-dimensional residual of a usable first iteration: 100

@@ -4,7 +4,7 @@ use anyhow::{Context, Result};
 use clap::{Args, ValueEnum};
 use indicatif::{ProgressBar, ProgressStyle};
 use omniad_acquire::input::recording::RecordingSet;
-use omniad_acquire::pipeline::{self, FitConfig, FitOutcome, Method};
+use omniad_acquire::pipeline::{self, FitConfig, FitOutcome, IterationReport, Method};
 use omniad_acquire::reconstruct::run::Progress;
 use serde_json::json;
 use std::path::PathBuf;
@@ -173,8 +173,17 @@ fn summary(o: &FitOutcome, a: &FitArgs, total: f64) {
                 s.force.weight, s.force.order, s.torque.weight, s.torque.order
             )
         });
+        let kept = kept_previous(o, r);
+        let kept = if kept.is_empty() {
+            String::new()
+        } else {
+            format!(
+                "; {} kept the previous pose branch (this model's run missed their markers)",
+                kept.join(", ")
+            )
+        };
         println!(
-            "iteration {}: residual force {:.4}, torque {:.4} ({:.2} s){smoothing}{note}",
+            "iteration {}: residual force {:.4}, torque {:.4} ({:.2} s){smoothing}{kept}{note}",
             i + 1,
             r.residual.0,
             r.residual.1,
@@ -244,6 +253,7 @@ fn report(o: &FitOutcome, loaded: f64, total: f64) -> serde_json::Value {
                 "empty_frames": r.filter.empty_frames, "filter_restarts": r.filter.restarts,
                 "mirror_switches": r.filter.mirror_switches,
                 "rejected": r.rejected, "seconds": r.seconds,
+                "kept_previous_takes": kept_previous(o, r),
                 "smoothing": r.smoothing.map(|s| json!({
                     "force": { "weight": s.force.weight, "order": s.force.order },
                     "torque": { "weight": s.torque.weight, "order": s.torque.order },
@@ -294,4 +304,13 @@ fn report(o: &FitOutcome, loaded: f64, total: f64) -> serde_json::Value {
         })),
         "timings": { "load_s": loaded, "total_s": total },
     })
+}
+
+/// The names of the takes that kept the previous iteration's
+/// reconstruction in iteration `r` (`pipeline::carry`).
+fn kept_previous<'a>(o: &'a FitOutcome, r: &IterationReport) -> Vec<&'a str> {
+    r.kept_previous
+        .iter()
+        .filter_map(|&i| o.takes.get(i).map(String::as_str))
+        .collect()
 }

@@ -7,6 +7,7 @@ pub mod filter;
 pub mod first;
 pub mod forces;
 pub(crate) mod measurement;
+pub(crate) mod misfit;
 pub mod noise;
 pub(crate) mod process;
 pub mod run;

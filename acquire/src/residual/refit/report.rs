@@ -37,7 +37,7 @@ pub struct JumpedTake {
     /// round before and in this round.
     pub error: [f64; 2],
     /// Its markers' misfit per degree of freedom (in units of their noise
-    /// variance, [`super::markers::misfit`]), the first round it was
+    /// variance, [`crate::reconstruct::misfit::misfit`]), the first round it was
     /// reconstructed in and this one (`None`: not reconstructed).
     pub markers: [Option<f64>; 2],
 }

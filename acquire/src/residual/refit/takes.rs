@@ -26,14 +26,7 @@
 use super::report::JumpedTake;
 use crate::residual::select::MIN_GAIN;
 
-/// Extra misfit per degree of freedom of a take's markers, in units of
-/// their noise variance ([`super::markers::misfit`]), beyond which the
-/// take's reconstruction is broken: the round's states miss the markers by
-/// a systematic error at least as large as the noise itself (the misfit per
-/// degree of freedom of a reconstruction that explains its markers is
-/// about 1, so the take's markers then fit at least twice as badly, in
-/// likelihood terms `-2 ln LR >= n_dof` against its first round).
-pub const MARKER_EXCESS: f64 = 1.0;
+pub use crate::reconstruct::misfit::MARKER_EXCESS;
 
 /// Each take (index in the set) with a value.
 type PerTake = Vec<(usize, f64)>;
