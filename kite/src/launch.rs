@@ -24,33 +24,24 @@
 //!
 //! How: the equilibrium the kite settles to in the mean wind
 //! (`crate::settle`, the state the verdict's static and dynamic tests are
-//! taken about) is followed by natural-parameter continuation (Newton,
-//! [`crate::equilibrium`], from the previous one) along the steady winds
-//! `U x̂ + λ u(0)`, λ from 0 to 1 in steps of at most
-//! [`CONTINUATION_STEP`], so the kite stays on the same branch (the same
-//! side of the wind, the same attitude family). When the kite has no
-//! equilibrium in `w(0)` on that branch (Newton fails on the way: a lull
-//! below the wind it flies in, or a gust past a fold of the branch —
-//! fig15-c with its string 10 cm lower sinks from 45° at 5 m/s to 24° at
-//! 6.2 m/s and has none beyond, and seed 10 starts at 7.3 m/s), it starts
-//! at the last equilibrium reached, in the wind `U x̂ + c`, and the gusts
-//! are those of the same seed given that the gust at `t = 0` was `c`
-//! ([`crate::wind::Wind::conditioned`]): the flyer lets go at a moment when
-//! the wind is one the kite can rest in. Either way no step.
+//! taken about) is followed along the steady winds `U x̂ + λ u(0)`, λ from
+//! 0 to 1 ([`crate::equilibrium::follow`]), so the kite stays on its
+//! branch. When the kite has no equilibrium in `w(0)` on that branch (a
+//! lull below the wind it flies in, or a gust past a fold of the branch —
+//! fig15-c with its string 10 cm lower sinks from 45° at 5 m/s to 31° 1
+//! m/s above it and has none 1.25 m/s above, and seed 10 starts 2.3 m/s
+//! above), it starts at the last equilibrium reached, in the wind `U x̂ +
+//! c`, and the gusts are those of the same seed given that the gust at `t
+//! = 0` was `c` ([`crate::wind::Wind::conditioned`]): the flyer lets go at
+//! a moment when the wind is one the kite can rest in. Either way no step.
 //! A kite with no equilibrium in the mean wind (`no_equilibrium`) is
 //! released at the file's attitude on a taut line, as before.
 
 use crate::assemble::Design;
-use crate::equilibrium::{equilibrium, Equilibrium};
+use crate::equilibrium::follow;
 use crate::flight_step::{Flight, FlightOptions};
 use crate::settle::settled_equilibrium;
 use anyhow::Result;
-use nalgebra::Vector3;
-
-/// Largest change of the steady wind between two continuation steps,
-/// m/s: a tenth of the default gust's 2.5σ range keeps each Newton start
-/// within a few degrees of its solution.
-pub const CONTINUATION_STEP: f64 = 0.25;
 
 /// The flight of `design` in the wind of `opts`, released at rest at its
 /// equilibrium in the wind at `t = 0` (or at the file's attitude when it
@@ -66,41 +57,11 @@ pub fn launch(design: &Design, opts: &FlightOptions) -> Result<Flight> {
     )?;
     if let Some(eq) = settled_equilibrium(&steady) {
         let wind = flight.wind_now();
-        let (start, reached) = equilibrium_in_wind(&steady, &eq, &wind);
+        let (start, reached) = follow(&steady, &eq, &wind);
         if reached != wind {
             flight.condition_gust(reached - steady.wind_model().mean);
         }
         flight.release_at(start.state);
     }
     Ok(flight)
-}
-
-/// The equilibrium in the steady wind `wind` (world frame, m/s) reached
-/// from `eq`, the equilibrium of `steady` (a gust-free flight) in its mean
-/// wind, by continuation along the winds between the two, and the wind it
-/// is in: `wind`, or the last one reached when Newton fails on the way.
-pub fn equilibrium_in_wind(
-    steady: &Flight,
-    eq: &Equilibrium,
-    wind: &Vector3<f64>,
-) -> (Equilibrium, Vector3<f64>) {
-    let mean = steady.wind_model().mean;
-    let gust = wind - mean;
-    let steps = (gust.norm() / CONTINUATION_STEP).ceil().max(1.0) as usize;
-    let mut f = steady.clone();
-    let mut at = (eq.clone(), mean);
-    for k in 1..=steps {
-        let w = if k == steps {
-            *wind
-        } else {
-            mean + gust * (k as f64 / steps as f64)
-        };
-        f.set_steady_wind(w);
-        f.release_at(at.0.state);
-        match equilibrium(&f) {
-            Some(next) => at = (next, w),
-            None => break,
-        }
-    }
-    at
 }

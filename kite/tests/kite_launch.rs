@@ -8,9 +8,9 @@
 mod common;
 
 use omniad_kite::check;
-use omniad_kite::equilibrium::equilibrium;
+use omniad_kite::equilibrium::{equilibrium, follow};
 use omniad_kite::flight::{self, Flight, FlightOptions};
-use omniad_kite::launch::{equilibrium_in_wind, launch};
+use omniad_kite::launch::launch;
 use omniad_kite::spec::StringSpec;
 use omniad_kite::wind::Wind;
 use omniad_kite::Design;
@@ -81,7 +81,7 @@ fn a_kite_launched_in_a_gust_starts_at_rest_in_that_wind() {
             "seed {seed}: tension {tension:.2} N vs {:.2} N in the mean wind",
             mean_eq.tension
         );
-        let (_, reached) = equilibrium_in_wind(&steady_flight, &mean_eq, &unconditioned.at(0.0));
+        let (_, reached) = follow(&steady_flight, &mean_eq, &unconditioned.at(0.0));
         assert_eq!(f.wind_now(), reached, "seed {seed}");
         if seed == 1 {
             // Resting in the lull: the wind is the seed's own.
