@@ -29,7 +29,7 @@
 //! branch. When the kite has no equilibrium in `w(0)` on that branch (a
 //! lull below the wind it flies in, or a gust past a fold of the branch —
 //! fig15-c with its string 10 cm lower sinks from 45° at 5 m/s to 31° 1
-//! m/s above it and has none 1.25 m/s above, and seed 10 starts 2.3 m/s
+//! m/s above it and has none beyond +1.27 m/s, and seed 10 starts 2.3 m/s
 //! above), it starts at the last equilibrium reached, in the wind `U x̂ +
 //! c`, and the gusts are those of the same seed given that the gust at `t
 //! = 0` was `c` ([`crate::wind::Wind::conditioned`]): the flyer lets go at

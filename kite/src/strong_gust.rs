@@ -47,8 +47,8 @@
 //! 21) rests 21° to the side of the wind, its least damped mode a 0.03 Hz
 //! lateral swing decaying in 22 s; its equilibrium, followed as the
 //! steady wind rises ([`crate::equilibrium::follow`]), sinks from 45° to
-//! 31° at +1 m/s and ends (a fold: no equilibrium on its branch) before
-//! +1.25 m/s. The longest gust (+1.32 m/s) takes it past the fold and back
+//! 31° at +1 m/s and ends (a fold: no equilibrium on its branch) at
+//! +1.27 m/s. The longest gust (+1.32 m/s) takes it past the fold and back
 //! in 12 s, too briefly to fall (lowest line 28.5°), while the gusty
 //! flights, whose wind stays past the fold for seconds at a time, dive
 //! into the ground on 9 of 12 seeds. So, beside the flights (which say

@@ -116,7 +116,7 @@ fn a_kite_that_rolls_over_in_a_lull_is_gust_sensitive_and_crashes() {
 /// its gust responses, linear and flown through the discrete gusts, stay
 /// inside the limits (lowest line 32° and 28.5°); yet its gusty flights
 /// dive into the ground on seeds 1-3. Its equilibrium branch ends (a
-/// fold) about 1.1 m/s above the mean wind, inside the longest gust's
+/// fold) 1.27 m/s above the mean wind, inside the longest gust's
 /// +1.32 m/s: the discrete-gust test refuses it for that. The file's
 /// branch reaches every gust's peak wind.
 #[test]
