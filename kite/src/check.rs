@@ -348,6 +348,16 @@ fn reasons_after_frame(
     }
     if let Some(g) = modes.strong_gust.as_ref().filter(|g| !g.ok) {
         let m = &g.motion;
+        if let Some(end) = g.branch_ends {
+            reasons.push(format!(
+                "gust sensitive: the kite's equilibrium ends (a fold) {:+.2} m/s {} from the mean wind, inside the run's slow {} of {:.2} m/s: nowhere to rest in it",
+                end,
+                g.component,
+                if g.amplitude < 0.0 { "lull" } else { "gust" },
+                g.amplitude.abs(),
+            ));
+            return reasons;
+        }
         reasons.push(format!(
             "gust sensitive: a 1 - cos {} {} of {:.2} m/s over {:.0} s takes the line down to {:.1}° (limit 15°), the spin up to {:.2} rad/s{}",
             g.component,

@@ -10,6 +10,16 @@
 //! Damped Newton on the six unknowns `(δy, δθ)` with the Jacobian from
 //! [`crate::linearise`] (the lower-left block of the state matrix), started
 //! from the flight's initial state.
+//!
+//! [`follow`]: the equilibrium followed from one steady wind to another
+//! (natural-parameter continuation: Newton from the last one, in steps of
+//! at most [`CONTINUATION_STEP`], halved where Newton fails), so the kite
+//! stays on its branch — the same side of the wind, the same attitude
+//! family; where the branch ends (a fold: Newton fails at every step
+//! down to a sixteenth of it), the last equilibrium reached. The launch
+//! ([`crate::launch`]) rests the kite in the wind at `t = 0` with it; the
+//! discrete gusts ([`crate::strong_gust`]) ask whether the kite still has
+//! an equilibrium in their peak wind.
 
 use crate::flight_step::Flight;
 use crate::linearise::{perturb, state_matrix, tangent_rate, Tangent};
@@ -26,6 +36,14 @@ const MAX_MOVE: f64 = 2.0;
 /// weight and the unbalanced torque below it times weight × radius of
 /// gyration.
 const TOLERANCE: f64 = 1e-9;
+
+/// Largest change of the steady wind between two continuation steps of
+/// [`follow`], m/s: a tenth of the default gusts' 2.5σ range keeps each
+/// Newton start within a few degrees of its solution.
+pub const CONTINUATION_STEP: f64 = 0.25;
+/// Smallest continuation step, as a fraction of [`CONTINUATION_STEP`],
+/// before the branch is taken to end.
+const SMALLEST_STEP: f64 = 1.0 / 16.0;
 
 /// An equilibrium of the flight model.
 #[derive(Clone, Debug)]
@@ -118,6 +136,46 @@ pub fn equilibrium(flight: &Flight) -> Option<Equilibrium> {
     (r.norm() < TOLERANCE * weight * 1e3)
         .then_some(())
         .and_then(|_| finish(flight, s, &start))
+}
+
+/// The equilibrium of `steady` (a gust-free flight) in the steady wind
+/// `wind` (world frame, m/s), followed from `from`, its equilibrium in
+/// the flight's own steady wind, along the winds between the two (module
+/// doc); with the wind it is in: `wind`, or the last one reached where
+/// the branch ends.
+pub fn follow(
+    steady: &Flight,
+    from: &Equilibrium,
+    wind: &Vector3<f64>,
+) -> (Equilibrium, Vector3<f64>) {
+    let start = steady.wind_model().mean;
+    let change = wind - start;
+    let full = (CONTINUATION_STEP / change.norm().max(f64::MIN_POSITIVE)).min(1.0);
+    let mut f = steady.clone();
+    let (mut at, mut done, mut step) = (from.clone(), 0.0, full);
+    while done < 1.0 && step >= full * SMALLEST_STEP {
+        let next = (done + step).min(1.0);
+        let w = if next < 1.0 {
+            start + change * next
+        } else {
+            *wind
+        };
+        f.set_steady_wind(w);
+        f.release_at(at.state);
+        match equilibrium(&f) {
+            Some(e) => {
+                (at, done) = (e, next);
+                step = (step * 2.0).min(full);
+            }
+            None => step /= 2.0,
+        }
+    }
+    let reached = if done < 1.0 {
+        start + change * done
+    } else {
+        *wind
+    };
+    (at, reached)
 }
 
 /// Moves the kite along its line until the line's tension balances the

@@ -31,11 +31,15 @@
 //!   no added mass.
 //! * Gusts: [`crate::wind`], a Dryden-shaped spectrum (MIL-F-8785C form)
 //!   with Λ = 30 m, spatially uniform over the kite (it is ≪ Λ).
-//! * Start: at rest at the equilibrium of the flight model in the mean
-//!   wind ([`crate::launch`]: as a flyer releases a kite that has settled on
-//!   its line), the state the verdict analyses; a kite without one starts
-//!   at the file's attitude on a taut line along the static string
-//!   direction.
+//! * Start: at rest at the equilibrium of the flight model in the wind
+//!   blowing at `t = 0`, the mean wind plus the gust's value then
+//!   ([`crate::launch`]: as a flyer releases a kite that has settled on
+//!   its line; the gust is a stationary process, Shinozuka & Deodatis
+//!   1991, so it is not zero at the release, and a kite at rest in the
+//!   mean wind would feel it as a step the spectrum does not contain),
+//!   followed from the mean-wind equilibrium the verdict analyses; a kite
+//!   without one starts at the file's attitude on a taut line along the
+//!   static string direction. Ground strikes count from `t = 0`.
 
 use crate::assemble::Design;
 use anyhow::Result;

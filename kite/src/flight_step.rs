@@ -204,6 +204,13 @@ impl Flight {
         self.state = state;
     }
 
+    /// The gusts from now on given that the gust at `t = 0` was `gust0`
+    /// (world frame, m/s; [`Wind::conditioned`]): the launch's wind when
+    /// the kite has no equilibrium in the wind blowing at `t = 0`.
+    pub(crate) fn condition_gust(&mut self, gust0: Vector3<f64>) {
+        self.wind = self.wind.clone().conditioned(gust0);
+    }
+
     /// The same flight stepped at `dt` (s) from now on.
     pub(crate) fn with_step(mut self, dt: f64) -> Self {
         let t = self.time();

@@ -8,6 +8,18 @@
 //! are `σ_u = G`, `σ_v = 0.8 G`, `σ_w = 0.5 G` (along-wind, crosswind,
 //! vertical; the usual near-ground ratios), `G` the gust strength, m/s.
 //! A pure function of time, so RK4 stages see a consistent wind.
+//!
+//! Conditioned on its value at the release ([`Wind::conditioned`]): when a
+//! kite has no equilibrium in the wind blowing at `t = 0`
+//! ([`crate::launch`]), the gust is taken as the same process given that
+//! it was `c` at `t = 0`, `u(t) - ρ(t) (u(0) - c)`, `ρ` the gusts'
+//! autocorrelation. For a Gaussian process this has exactly the
+//! conditional law (the conditional mean `ρ(t) c`, the conditional
+//! covariance unchanged by the realisation; Rasmussen & Williams,
+//! *Gaussian Processes for Machine Learning*, 2006, eq. A.6): the flyer
+//! lets go at a moment when the wind is one the kite can rest in. `ρ`
+//! falls to 0.2 at 6 s (Λ/U) and stays within ±0.18 after 10 s, so the
+//! judged span's gusts keep at least 97 % of their variance.
 
 use nalgebra::Vector3;
 
@@ -48,6 +60,9 @@ pub struct Wind {
     pub mean: Vector3<f64>,
     /// Per component: `(amplitude m/s, frequency Hz, phase rad)`.
     modes: [Vec<(f64, f64, f64)>; 3],
+    /// The part of the gust at `t = 0` the wind is conditioned away from
+    /// (`u(0) - c`, world frame, m/s; zero: the unconditioned process).
+    released: Vector3<f64>,
 }
 
 impl Wind {
@@ -82,6 +97,7 @@ impl Wind {
         Self {
             mean: Vector3::new(speed, 0.0, 0.0),
             modes,
+            released: Vector3::zeros(),
         }
     }
 
@@ -92,6 +108,7 @@ impl Wind {
         Self {
             mean: v,
             modes: [Vec::new(), Vec::new(), Vec::new()],
+            released: Vector3::zeros(),
         }
     }
 
@@ -106,6 +123,14 @@ impl Wind {
             .map(|m| m.iter().map(|&(a, f, _)| (a, f)).collect())
     }
 
+    /// The same gusts given that the gust at `t = 0` was `gust0` (world
+    /// frame, m/s; module doc): `u(t) - ρ(t) (u(0) - gust0)`.
+    pub fn conditioned(mut self, gust0: Vector3<f64>) -> Self {
+        self.released = Vector3::zeros();
+        self.released = self.at(0.0) - self.mean - gust0;
+        self
+    }
+
     /// Wind velocity at time `t` (s), world frame, m/s.
     pub fn at(&self, t: f64) -> Vector3<f64> {
         let tau = 2.0 * std::f64::consts::PI * t;
@@ -114,6 +139,25 @@ impl Wind {
                 .map(|(a, f, p)| a * (tau * f + p).cos())
                 .sum::<f64>()
         });
-        self.mean + Vector3::from(g)
+        let gust = Vector3::from(g);
+        if self.released == Vector3::zeros() {
+            return self.mean + gust;
+        }
+        self.mean + gust - self.released.component_mul(&self.correlation(t))
+    }
+
+    /// The gusts' autocorrelation `ρ(t) = Σ a² cos(2π f t) / Σ a²` per
+    /// component (1 for a component without gusts).
+    pub fn correlation(&self, t: f64) -> Vector3<f64> {
+        let tau = 2.0 * std::f64::consts::PI * t;
+        Vector3::from(self.modes.each_ref().map(|m| {
+            let var: f64 = m.iter().map(|(a, _, _)| a * a).sum();
+            let cov: f64 = m.iter().map(|(a, f, _)| a * a * (tau * f).cos()).sum();
+            if var > 0.0 {
+                cov / var
+            } else {
+                1.0
+            }
+        }))
     }
 }
