@@ -113,10 +113,7 @@ mod tests {
     use super::*;
     use crate::fit::model::zero_model;
     use crate::reconstruct::noise::initial_noise;
-    use crate::residual::null::tests::truth;
-    use crate::synth::write::generate;
-    use crate::synth::{SynthConfig, SynthObject};
-    use nalgebra::{UnitQuaternion, Vector3};
+    use crate::residual::null::tests::{plate_with_truth, turn_stretch};
 
     /// A take whose fresh reconstruction turned 20° off for 15 frames (it
     /// took the other pose branch there) is named, smoothed again from the
@@ -126,29 +123,14 @@ mod tests {
     /// Without the check the broken reconstruction would be used.
     #[test]
     fn a_take_that_broke_keeps_the_previous_branch() {
-        let dir = tempfile::tempdir().expect("dir");
-        let cfg = SynthConfig {
-            object: SynthObject::Plate,
-            takes: (1, 1),
-            ..SynthConfig::default()
-        };
-        generate(dir.path(), &cfg).expect("synth");
-        let set = RecordingSet::load(dir.path()).expect("load");
-        let mut previous: Vec<Smoothed> = set
-            .takes
-            .iter()
-            .map(|t| truth(dir.path(), &format!("{}.csv", t.name)))
-            .collect();
+        let (_dir, set, mut previous) = plate_with_truth();
         assert_eq!(previous.len(), 2);
         let n = previous[0].states.len();
         let mut cuts = vec![false; n];
         cuts[n / 2] = true;
         previous[0].cuts = cuts.clone();
         let mut fresh = previous.clone();
-        let turn = UnitQuaternion::from_axis_angle(&Vector3::x_axis(), 20f64.to_radians());
-        for s in fresh[0].states.iter_mut().skip(40).take(15) {
-            s.orientation = turn * s.orientation;
-        }
+        turn_stretch(&mut fresh[0], 40, 15, 20.0);
         fresh[0].cuts = vec![false; n];
         for s in &mut fresh[1].states {
             s.position.x += 0.001;

@@ -186,6 +186,35 @@ pub(crate) mod tests {
     use crate::synth::{truth_model, ObjectSpec, SynthConfig, SynthObject};
     use nalgebra::{Quaternion, UnitQuaternion};
 
+    /// A synthetic plate set of one drop and one spin in a temporary folder,
+    /// loaded, with each take's true states as its reconstruction.
+    pub(crate) fn plate_with_truth() -> (tempfile::TempDir, RecordingSet, Vec<Smoothed>) {
+        let dir = tempfile::tempdir().expect("dir");
+        let cfg = SynthConfig {
+            object: SynthObject::Plate,
+            takes: (1, 1),
+            ..SynthConfig::default()
+        };
+        generate(dir.path(), &cfg).expect("synth");
+        let set = RecordingSet::load(dir.path()).expect("load");
+        let states = set
+            .takes
+            .iter()
+            .map(|t| truth(dir.path(), &format!("{}.csv", t.name)))
+            .collect();
+        (dir, set, states)
+    }
+
+    /// `s` with `count` states from epoch `from` turned by `degrees` about
+    /// the world x axis: a reconstruction that took the other pose branch
+    /// (or lost the object) on that stretch.
+    pub(crate) fn turn_stretch(s: &mut Smoothed, from: usize, count: usize, degrees: f64) {
+        let turn = UnitQuaternion::from_axis_angle(&Vector3::x_axis(), degrees.to_radians());
+        for state in s.states.iter_mut().skip(from).take(count) {
+            state.orientation = turn * state.orientation;
+        }
+    }
+
     /// The truth states of take `name` of the synthetic set in `dir`.
     /// A take's true states (`truth/NAME`) as a reconstruction.
     pub(crate) fn truth(dir: &std::path::Path, name: &str) -> Smoothed {

@@ -13,13 +13,8 @@ pub(crate) use crate::reconstruct::misfit::per_take;
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::input::recording::RecordingSet;
-    use crate::reconstruct::filter::Smoothed;
-    use crate::residual::null::tests::truth;
+    use crate::residual::null::tests::{plate_with_truth, turn_stretch};
     use crate::residual::refit::takes::{broken, MARKER_EXCESS};
-    use crate::synth::write::generate;
-    use crate::synth::{SynthConfig, SynthObject};
-    use nalgebra::{UnitQuaternion, Vector3};
 
     /// The true states explain their markers to the noise (misfit per
     /// degree of freedom about 1); the same take with 15 of its frames
@@ -28,29 +23,14 @@ mod tests {
     /// is named broken against the true states; a 1 mm offset is not.
     #[test]
     fn misfit_of_true_and_broken_states() {
-        let dir = tempfile::tempdir().expect("dir");
-        let cfg = SynthConfig {
-            object: SynthObject::Plate,
-            takes: (1, 1),
-            ..SynthConfig::default()
-        };
-        generate(dir.path(), &cfg).expect("synth");
-        let set = RecordingSet::load(dir.path()).expect("load");
-        let rec: Vec<Smoothed> = set
-            .takes
-            .iter()
-            .map(|t| truth(dir.path(), &format!("{}.csv", t.name)))
-            .collect();
+        let (_dir, set, rec) = plate_with_truth();
         let good = per_take(&set, &rec, 0.002);
         assert_eq!(good.len(), 2);
         for &(_, m) in &good {
             assert!((0.7..1.3).contains(&m), "true states misfit {m}");
         }
         let mut bad = rec.clone();
-        let turn = UnitQuaternion::from_axis_angle(&Vector3::x_axis(), 20f64.to_radians());
-        for s in bad[0].states.iter_mut().skip(40).take(15) {
-            s.orientation = turn * s.orientation;
-        }
+        turn_stretch(&mut bad[0], 40, 15, 20.0);
         let mut near = rec.clone();
         for s in &mut near[0].states {
             s.position.x += 0.001;
