@@ -5,7 +5,7 @@
 //! [`crate::gravity_coupling`]).
 
 /// Most model extensions in one model.
-pub const MAX_EXTENSIONS: usize = 8;
+pub const MAX_EXTENSIONS: usize = 9;
 /// Largest extension payload, in bytes.
 pub const EXTENSION_CAPACITY: usize = 112;
 
@@ -27,6 +27,9 @@ pub mod extension_kind {
     pub const PROPELLER_THRUST: u16 = 6;
     /// Linear (viscous) drag ([`crate::effect::EffectKind::LinearDrag`]).
     pub const LINEAR_DRAG: u16 = 7;
+    /// Added mass's velocity terms without its acceleration reaction
+    /// ([`crate::effect::EffectKind::AddedMassCoupling`]).
+    pub const ADDED_MASS_COUPLING: u16 = 8;
 }
 
 /// A model extension: a term outside eqs. (5)-(6), stored as a tagged,

@@ -33,7 +33,10 @@ pub struct SynthArgs {
     /// Effect outside the OmniAD model, `NAME[=SCALE]`, repeatable; SCALE 1
     /// is physical: buoyancy (V_b = SCALE x the bounding box's volume),
     /// added_mass (SCALE x the potential-flow added-mass tensor of the
-    /// ellipsoid inscribed in the bounding box, Lamb §114), rotational_lift
+    /// ellipsoid inscribed in the bounding box, Lamb §114),
+    /// added_mass_coupling (the same M_a's velocity terms -Ω×(M_a V) and
+    /// -V×(M_a V) without the acceleration reaction -M_a dV/dt: the air of
+    /// a stateless fluid model such as MuJoCo's), rotational_lift
     /// (ρL³ c Ω×V, c = SCALE), magnus (rotational_lift with c = SCALE/2,
     /// i.e. ½ρL³ SCALE Ω×V), linear_drag (-k μ L V, k = SCALE x 3π, Stokes),
     /// propeller_thrust (½ρL⁴|Ω| K Ω, K = SCALE x Z Zᵀ with Z the pole).

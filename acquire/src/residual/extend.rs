@@ -6,7 +6,7 @@
 
 use crate::error::{Error, Result};
 use crate::fit::damping::{matrix, with_floor};
-use crate::residual::candidates::Candidate;
+use crate::residual::candidates::{Candidate, CouplingSplit};
 use crate::residual::problems::Problems;
 use crate::residual::select::design_columns;
 use nalgebra::{DVector, Matrix3, Vector3};
@@ -57,12 +57,15 @@ fn with_coefficients(
     Ok(m)
 }
 
-/// The model of `design` fitted on all takes over `base`.
+/// The model of `design` fitted on all takes over `base` (air of density
+/// `rho`, kg/m³, object of reference length `l`, m); an added-mass
+/// coupling is stored and reported as its [`CouplingSplit`] (the coupling
+/// and, when it has one, the rotational lift).
 pub(crate) fn extend(
     p: &Problems,
     base: &Coefficients<f64>,
     design: &[Candidate],
-    damping_floor: f64,
+    (damping_floor, rho, l): (f64, f64, f64),
 ) -> Result<Extended> {
     let cols = design_columns(p, design);
     let force = p.force.solve(&cols, None, None).x;
@@ -89,17 +92,36 @@ pub(crate) fn extend(
         if let Some(old) = held.then(|| super::fixed::stored(base, *c)).flatten() {
             v.iter_mut().zip(old).for_each(|(x, o)| *x += o);
         }
-        store(&mut model, *c, &v)?;
         if *c == Candidate::Wind {
             wind = Some(Vector3::new(v[0], v[1], v[2]));
         }
-        params.push((*c, v));
+        for (c, v) in read(*c, v, rho, l) {
+            store(&mut model, c, &v)?;
+            params.push((c, v));
+        }
     }
     Ok(Extended {
         model,
         wind,
         params,
     })
+}
+
+/// The effects candidate `c` with fitted parameters `v` stands for: an
+/// added-mass coupling as its [`CouplingSplit`], every other as itself.
+fn read(c: Candidate, v: Vec<f64>, rho: f64, l: f64) -> Vec<(Candidate, Vec<f64>)> {
+    if c != Candidate::Named(EffectKind::AddedMassCoupling) {
+        return vec![(c, v)];
+    }
+    let split = CouplingSplit::of(&v, rho, l);
+    let mut out = vec![(c, split.added_mass.to_vec())];
+    if split.lift > 0.0 {
+        out.push((
+            Candidate::Named(EffectKind::RotationalLift),
+            vec![split.lift],
+        ));
+    }
+    out
 }
 
 /// Stores candidate `c` with parameters `v` in `m` (added mass projected

@@ -128,6 +128,10 @@ pub struct Report {
     pub candidates: Vec<CandidateReport>,
     /// Kept effects, strongest (first chosen) first.
     pub selected: Vec<String>,
+    /// Their parameters in the extended model, in the order of `selected`
+    /// (a coupling's split: its M_a and the rotational lift it holds,
+    /// `candidates::CouplingSplit`; the wind in world m/s).
+    pub selected_params: Vec<Vec<f64>>,
     /// The extended model's held-out errors.
     pub after: HeldOut,
     /// Re-simulation of the takes.
@@ -240,6 +244,7 @@ pub fn analyse(
         },
         baseline_model: if given.is_some() { "given" } else { "fitted" },
         candidates,
+        selected_params: params.iter().map(|(_, v)| v.clone()).collect(),
         selected,
         after: HeldOut {
             heldout_force_rms: last.sel.after.force_rms,

@@ -27,7 +27,12 @@
 //!   effect was kept, and carried on (tentatively, re-projected each
 //!   round) while the rounds that hold it still find it significant: it
 //!   is kept only when the refitted states confirm it (selected,
-//!   plausible);
+//!   plausible); where its coupling alone (added mass without the
+//!   acceleration reaction, a stateless fluid model's air) predicts the
+//!   held-out force better, the coupling is the reading tried, and a
+//!   round that moves from one reading of M_a to the other (or drops a
+//!   coupling's rotational lift) has kept the term
+//!   ([`crate::residual::candidates::Candidate::excludes`]);
 //! * a round is judged take by take ([`takes`]): a take whose held-out
 //!   error jumps while the others settle, or whose markers the round's
 //!   reconstruction misses by more than their noise beyond its first-round
@@ -291,7 +296,7 @@ fn select_on(
             crate::fit::select::MIN_TAKES
         ))
     })?;
-    let ext = extend(p, model, &sel.selected, cfg.lsq.damping_floor)?;
+    let ext = extend(p, model, &sel.selected, (cfg.lsq.damping_floor, rho, l))?;
     Ok((sel, ext))
 }
 

@@ -31,6 +31,7 @@ use crate::residual::candidates::{plausible, Candidate, ALL};
 use crate::residual::identify::{beyond_cf, unexplained_without_cf, COPY_FRACTION};
 use crate::residual::problems::Problems;
 use nalgebra::DVector;
+use omniad_core::effect::EffectKind;
 
 /// Smallest relative reduction of the held-out weighted squared force
 /// error for which an effect is kept (10 %; force only: the torque ranks
@@ -395,7 +396,10 @@ pub(crate) fn select(
     let mut design: Vec<Candidate> = Vec::new();
     let mut tried = Vec::new();
     for step in 0..ALL.len() {
-        let remaining: Vec<Candidate> = ALL.into_iter().filter(|c| !design.contains(c)).collect();
+        let remaining: Vec<Candidate> = ALL
+            .into_iter()
+            .filter(|c| !design.iter().any(|d| d == c || d.excludes(*c)))
+            .collect();
         progress.stage(
             &format!("residual: selection step {}", step + 1),
             remaining.len(),
@@ -415,6 +419,7 @@ pub(crate) fn select(
             }
             tried.push(t);
         }
+        coupling_or_added_mass(&mut tried, &mut eligible, step);
         let Some(pick) = choose(&eligible) else { break };
         let (c, _, s) = eligible.swap_remove(pick);
         design.push(c);
@@ -426,6 +431,43 @@ pub(crate) fn select(
         selected: design,
         tried,
     })
+}
+
+/// Added mass's coupling alone is air without the acceleration reaction
+/// (a stateless model's); where added mass with it predicts held-out
+/// forces better at the same step, plausible or not, the coupling is not
+/// kept: states reconstructed without the added mass bias its `dU/dt`
+/// columns (an implausible added mass there is what the refit rounds try
+/// tentatively, `refit::proposal`), and the coupling would take its place
+/// with half of the physics. The force decides: the two differ only in
+/// the force's `-M_a dU/dt`, their torque columns (the Munk moment) are
+/// the same.
+fn coupling_or_added_mass(
+    tried: &mut [Tried],
+    eligible: &mut Vec<(Candidate, f64, Scored)>,
+    step: usize,
+) {
+    let at_step = |c: Candidate| {
+        tried
+            .iter()
+            .position(|t| t.step == step && t.candidate == c)
+    };
+    let coupling = Candidate::Named(EffectKind::AddedMassCoupling);
+    let (Some(i), Some(j)) = (
+        at_step(coupling),
+        at_step(Candidate::Named(EffectKind::AddedMass)),
+    ) else {
+        return;
+    };
+    let (full, own) = (tried[j].gain, tried[i].gain);
+    if full > own && tried[i].rejected.is_none() {
+        tried[i].rejected = Some(format!(
+            "added mass with its acceleration reaction predicts held-out forces better ({:.1} % against {:.1} %)",
+            full * 100.0,
+            own * 100.0
+        ));
+        eligible.retain(|e| e.0 != coupling);
+    }
 }
 
 /// Why a design that reproduces the target without C_F is not kept.

@@ -4,6 +4,7 @@
 
 use crate::residual::candidates::Candidate;
 use crate::residual::Report;
+use omniad_core::effect::EffectKind;
 
 /// Sentences describing `r`; `params` are the kept effects' parameters.
 pub(crate) fn describe(r: &Report, params: &[(Candidate, Vec<f64>)]) -> Vec<String> {
@@ -48,7 +49,17 @@ pub(crate) fn describe(r: &Report, params: &[(Candidate, Vec<f64>)]) -> Vec<Stri
             "No candidate improves held-out takes significantly and plausibly: the residual points to no effect the model lacks.".into(),
         );
     }
+    let coupled = params
+        .iter()
+        .any(|(c, _)| *c == Candidate::Named(EffectKind::AddedMassCoupling));
     for (name, (c, v)) in r.selected.iter().zip(params) {
+        if coupled && *c == Candidate::Named(EffectKind::RotationalLift) {
+            out.push(format!(
+                "The added-mass coupling's tensor dips below zero further than noise does: its isotropic part, which no force or torque tells from a rotational lift, is read as the least rotational lift that leaves M_a positive semi-definite, c = {} (Magnus).",
+                fmt(v)
+            ));
+            continue;
+        }
         let tried = r
             .candidates
             .iter()
@@ -64,6 +75,20 @@ pub(crate) fn describe(r: &Report, params: &[(Candidate, Vec<f64>)]) -> Vec<Stri
                 explained(name) * 100.0,
                 fmt(v)
             ));
+            if *c == Candidate::Named(EffectKind::AddedMassCoupling) {
+                let full = r
+                    .candidates
+                    .iter()
+                    .find(|a| a.effect == "added_mass" && a.step == t.step);
+                out.push(format!(
+                    "{name}: the air pulls and turns the body as an added mass would (force -Ω × (M_a V), Munk moment -V × (M_a V)) but never resists its acceleration{}. Real air has that reaction (-M_a dV/dt); a stateless fluid model has not (MuJoCo's ellipsoid model evaluates its added mass without accelerations).",
+                    full.map_or(String::new(), |a| format!(
+                        ": added mass with it predicts held-out forces worse ({:.1} % against {:.1} % lower)",
+                        a.gain * 100.0,
+                        t.gain * 100.0
+                    ))
+                ));
+            }
             if let Some(share) = t.beyond_cf {
                 out.push(format!(
                     "{:.0} % of {name}'s force (weighted square) lies outside what the base model's C_F can take over; the rest the base fit had absorbed into C_F, so the held-out gain measures only that share while C_F's error measures the whole.",
@@ -89,11 +114,11 @@ pub(crate) fn describe(r: &Report, params: &[(Candidate, Vec<f64>)]) -> Vec<Stri
 fn kind_words(c: Candidate) -> &'static str {
     match c {
         Candidate::Named(k) => match k {
-            omniad_core::effect::EffectKind::AddedMass => "M_a, kg",
-            omniad_core::effect::EffectKind::RotationalLift => "c",
-            omniad_core::effect::EffectKind::PropellerThrust => "K",
-            omniad_core::effect::EffectKind::Buoyancy => "V_b, m³",
-            omniad_core::effect::EffectKind::LinearDrag => "k",
+            EffectKind::AddedMass | EffectKind::AddedMassCoupling => "M_a, kg",
+            EffectKind::RotationalLift => "c",
+            EffectKind::PropellerThrust => "K",
+            EffectKind::Buoyancy => "V_b, m³",
+            EffectKind::LinearDrag => "k",
         },
         Candidate::Wind => "w, world m/s",
         Candidate::SpinCoupling => "K_ijk",

@@ -8,6 +8,7 @@
 //! |---|---|
 //! | `buoyancy` | `V_b = SCALE · s_x s_y s_z` (1: the bounding box displaces air) |
 //! | `added_mass` | `M_a = SCALE ·` the inscribed ellipsoid's potential-flow tensor ([`crate::synth::added_mass`], Lamb §114) |
+//! | `added_mass_coupling` | the same M_a, its velocity terms only (no acceleration reaction: the air of a stateless fluid model such as MuJoCo's) |
 //! | `rotational_lift` | `c = SCALE` (force `ρL³ c Ω × V`) |
 //! | `magnus` | alias: `rotational_lift` with `c = SCALE / 2` (the old `½ρL³ SCALE Ω × V`) |
 //! | `linear_drag` | `k = SCALE · 3π` (Stokes' sphere of diameter L; force `-k μ L V`) |
@@ -30,8 +31,9 @@ pub struct EffectSpec {
 }
 
 /// The names `--effect` accepts.
-pub const NAMES: [&str; 6] = [
+pub const NAMES: [&str; 7] = [
     "added_mass",
+    "added_mass_coupling",
     "rotational_lift",
     "magnus",
     "propeller_thrust",
@@ -78,7 +80,7 @@ impl EffectSpec {
             EffectKind::RotationalLift if self.name == "magnus" => vec![s * 0.5],
             EffectKind::RotationalLift => vec![s],
             EffectKind::LinearDrag => vec![s * 3.0 * std::f64::consts::PI],
-            EffectKind::AddedMass => {
+            EffectKind::AddedMass | EffectKind::AddedMassCoupling => {
                 // The ellipsoid inscribed in the bounding box (Lamb §114,
                 // the core's reference model): diagonal in the body frame.
                 let half = [spec.size.x, spec.size.y, spec.size.z].map(|e| 0.5 * e);

@@ -16,6 +16,18 @@ pub enum EffectKind {
     /// symmetric positive semi-definite M_a, kg, `[xx, yy, zz, xy, xz, yz]`.
     /// Force `-M_a dV/dt - Ω × (M_a V)`, Munk moment `-V × (M_a V)`.
     AddedMass,
+    /// `added_mass_coupling`: the velocity terms of Kirchhoff's added mass
+    /// alone — force `-Ω × (M_a V)`, Munk moment `-V × (M_a V)` — without
+    /// the acceleration reaction `-M_a dV/dt` (Lamb §126 with `dV/dt`
+    /// dropped). No real air lacks the acceleration reaction; a stateless
+    /// fluid model does: MuJoCo's ellipsoid model evaluates its added mass
+    /// without accelerations (`mj_addedMassForces` called with none, "disabled
+    /// due to dependency on qacc"; mujoco.readthedocs.io, Fluid forces),
+    /// so its air pulls and turns a body as an added mass would while never
+    /// resisting its acceleration. Parameters as [`Self::AddedMass`]'s. Its
+    /// isotropic part `m I` is the force `m (V × Ω)`, a rotational lift of
+    /// `c = -m / (ρL³)`: no force or torque tells the two apart.
+    AddedMassCoupling,
     /// `rotational_lift`: lift from circulation bound by rotation (Magnus;
     /// Kutta-Joukowski with Γ ∝ Ω L², Batchelor 2000 §6.6), force
     /// `ρ L³ c (Ω × V)`. Parameter c (dimensionless).
@@ -35,8 +47,9 @@ pub enum EffectKind {
 
 impl EffectKind {
     /// Every kind, in a fixed order.
-    pub const ALL: [EffectKind; 5] = [
+    pub const ALL: [EffectKind; 6] = [
         Self::AddedMass,
+        Self::AddedMassCoupling,
         Self::RotationalLift,
         Self::PropellerThrust,
         Self::Buoyancy,
@@ -46,7 +59,7 @@ impl EffectKind {
     /// Number of parameters.
     pub const fn param_count(self) -> usize {
         match self {
-            Self::AddedMass => 6,
+            Self::AddedMass | Self::AddedMassCoupling => 6,
             Self::PropellerThrust => 9,
             Self::RotationalLift | Self::Buoyancy | Self::LinearDrag => 1,
         }
@@ -56,6 +69,7 @@ impl EffectKind {
     pub const fn name(self) -> &'static str {
         match self {
             Self::AddedMass => "added_mass",
+            Self::AddedMassCoupling => "added_mass_coupling",
             Self::RotationalLift => "rotational_lift",
             Self::PropellerThrust => "propeller_thrust",
             Self::Buoyancy => "buoyancy",
@@ -72,6 +86,7 @@ impl EffectKind {
     pub const fn extension_kind(self) -> u16 {
         match self {
             Self::AddedMass => extension_kind::ADDED_MASS,
+            Self::AddedMassCoupling => extension_kind::ADDED_MASS_COUPLING,
             Self::Buoyancy => extension_kind::BUOYANCY,
             Self::RotationalLift => extension_kind::ROTATIONAL_LIFT,
             Self::PropellerThrust => extension_kind::PROPELLER_THRUST,

@@ -132,11 +132,15 @@ impl<T: Real> Effect<T> {
                 let l4 = l * l * l * l;
                 force_only(k * w * (half * rho * l4 * w.norm()))
             }
-            EffectKind::AddedMass => {
+            EffectKind::AddedMass | EffectKind::AddedMassCoupling => {
                 let m = self.symmetric();
                 let p = m * v;
+                let coupling = -w.cross(&p);
                 Wrench {
-                    force: -(m * x.velocity_rate) - w.cross(&p),
+                    force: match self.kind {
+                        EffectKind::AddedMass => coupling - m * x.velocity_rate,
+                        _ => coupling,
+                    },
                     torque: -v.cross(&p),
                 }
             }

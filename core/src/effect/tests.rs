@@ -74,6 +74,40 @@ fn the_formulas_as_documented() {
     assert!(a.torque.norm() < 1e-15, "no Munk moment for a sphere");
 }
 
+/// The coupling is added mass without its acceleration reaction (same
+/// Munk moment, force short of `-M_a dV/dt`), changes no motion, and its
+/// isotropic part is a rotational lift with `c = -m / (ρL³)`.
+#[test]
+fn added_mass_coupling_is_added_mass_without_the_acceleration_reaction() {
+    let x = inputs();
+    let six = [0.004, 0.001, 0.02, 0.0005, -0.0002, 0.0001];
+    let full = Effect::new(EffectKind::AddedMass, &six).unwrap().wrench(&x);
+    let coupling = Effect::new(EffectKind::AddedMassCoupling, &six).unwrap();
+    let c = coupling.wrench(&x);
+    let m = crate::math::symmetric_from_six(six);
+    assert!((c.force - (full.force + m * x.velocity_rate)).norm() < 1e-15);
+    assert_eq!(c.torque, full.torque);
+    assert!(coupling.added_mass().is_none(), "a force, not a mass");
+    assert!(!EffectKind::AddedMassCoupling.changes_motion());
+    let (rho, l) = (x.air_density, x.reference_length);
+    let lift = Effect::new(EffectKind::RotationalLift, &[0.3])
+        .unwrap()
+        .wrench(&x);
+    let m_iso = -0.3 * rho * l * l * l;
+    let iso = Effect::new(
+        EffectKind::AddedMassCoupling,
+        &[m_iso, m_iso, m_iso, 0.0, 0.0, 0.0],
+    );
+    let iso = iso.unwrap().wrench(&x);
+    assert!(
+        (iso.force - lift.force).norm() < 1e-14,
+        "{:?} vs {:?}",
+        iso.force,
+        lift.force
+    );
+    assert!(iso.torque.norm() < 1e-15);
+}
+
 /// The Munk moment of a plate-like M_a turns the plate broadside to the
 /// flow (the classic result: a falling card turns flat).
 #[test]

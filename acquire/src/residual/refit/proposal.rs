@@ -96,6 +96,12 @@ pub(super) fn proposal(r: &Round, first: bool) -> StateEffects {
             _ => None,
         })
         .collect();
+    // The rotational lift of a kept coupling's split is in the extended
+    // model, not in the selection (`extend::read`).
+    effects.extend(split_parts(r).filter_map(|(c, v)| match c {
+        Candidate::Named(kind) => Effect::new(*kind, v),
+        _ => None,
+    }));
     // A significant added mass that was not kept is tried only when no
     // named effect explains the states (generic blocks or nothing were
     // kept): next to one that does, it is a rival explanation (isotropic
@@ -107,31 +113,61 @@ pub(super) fn proposal(r: &Round, first: bool) -> StateEffects {
     // implausible, and each round's states move its estimate toward its
     // own fixed point ([`tentative`]); it is confirmed only in a round
     // that keeps it.
-    let am = Candidate::Named(EffectKind::AddedMass);
-    let carrying = r.effects.effect(EffectKind::AddedMass).is_some();
+    // Of added mass and its coupling (air without the acceleration
+    // reaction), the reading whose held-out force is better is the one
+    // tried; the coupling is a force, held as fitted (its rotational lift
+    // included, `CouplingSplit`), since the first states' bias can make it
+    // lose on the torque or fail plausibility as it makes added mass fail.
+    let readings = [EffectKind::AddedMass, EffectKind::AddedMassCoupling];
+    let carrying = readings.iter().any(|k| r.effects.effect(*k).is_some());
     if (first || carrying) && effects.is_empty() {
-        let implausible = r
+        let best = r
             .sel
             .tried
             .iter()
-            .find(|t| t.step == 0 && t.candidate == am && significant(t))
-            .and_then(|t| psd(&t.params))
-            .and_then(|m| added_mass_effect(&m));
-        effects.extend(implausible);
+            .filter(|t| t.step == 0 && readings.iter().any(|k| t.candidate == Candidate::Named(*k)))
+            .filter(|t| significant(t))
+            .max_by(|a, b| a.gain.total_cmp(&b.gain));
+        let tentative = best.and_then(|t| match t.candidate {
+            Candidate::Named(EffectKind::AddedMass) => {
+                psd(&t.params).and_then(|m| added_mass_effect(&m))
+            }
+            Candidate::Named(kind) => Effect::new(kind, &t.params),
+            _ => None,
+        });
+        effects.extend(tentative);
     }
     StateEffects { wind, effects }
 }
 
 /// The named effects round `r` held in its process model but did not
 /// keep (a tentative added mass, [`proposal`]): the round confirms its
-/// effects only when this is empty.
+/// effects only when this is empty. An effect counts as kept when the
+/// round keeps it or a reading of the same term
+/// ([`Candidate::excludes`]: added mass and its coupling share M_a, a
+/// coupling holds a rotational lift): a round holding one reading that
+/// selects the other has moved to it, and the next round holds that.
 pub(super) fn tentative(r: &Round) -> Vec<EffectKind> {
+    let kept = |k: EffectKind| {
+        let c = Candidate::Named(k);
+        r.sel.selected.iter().any(|d| *d == c || d.excludes(c))
+            || split_parts(r).any(|(d, _)| *d == c)
+    };
     r.effects
         .effects
         .iter()
         .map(|e| e.kind)
-        .filter(|k| !r.sel.selected.contains(&Candidate::Named(*k)))
+        .filter(|k| !kept(*k))
         .collect()
+}
+
+/// The extended model's effects that no selected candidate names: a kept
+/// coupling's rotational lift ([`crate::residual::candidates::CouplingSplit`]).
+fn split_parts(r: &Round) -> impl Iterator<Item = &(Candidate, Vec<f64>)> {
+    r.ext
+        .params
+        .iter()
+        .filter(|(c, _)| !r.sel.selected.contains(c))
 }
 
 #[cfg(test)]

@@ -3,6 +3,7 @@
 //! rounds agree, and Aitken's extrapolation of the rounds' fixed-point
 //! iteration.
 
+use crate::residual::candidates::Candidate;
 use nalgebra::{Matrix3, Vector3};
 use omniad_core::effect::{Effect, EffectKind};
 
@@ -38,9 +39,16 @@ impl StateEffects {
         self.effects.iter().find(|e| e.kind == kind)
     }
 
-    /// Every effect of `self` is also in `o` (named effects only).
+    /// Every effect of `self` is also in `o`, itself or as another
+    /// reading of the same term ([`Candidate::excludes`]: added mass or
+    /// its coupling, a coupling's rotational lift) (named effects only).
     pub fn kinds_within(&self, o: &Self) -> bool {
-        self.effects.iter().all(|e| o.effect(e.kind).is_some())
+        let term = |k: EffectKind| Candidate::Named(k);
+        self.effects.iter().all(|e| {
+            o.effects
+                .iter()
+                .any(|f| f.kind == e.kind || term(f.kind).excludes(term(e.kind)))
+        })
     }
 
     /// Same effects, each changed by less than its tolerance.
