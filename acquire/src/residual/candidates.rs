@@ -188,7 +188,7 @@ impl CouplingSplit {
         let added_mass: [f64; 6] = std::array::from_fn(|i| a.get(i).copied().unwrap_or(0.0));
         let (lo, hi) = eigen_range(&added_mass);
         let scale = rho * l.powi(3);
-        if lo >= -PSD_DIP * hi.max(0.0) || !(scale > 0.0) {
+        if lo >= -PSD_DIP * hi.max(0.0) || !scale.is_finite() || scale <= 0.0 {
             return Self {
                 added_mass,
                 lift: 0.0,
