@@ -24,6 +24,25 @@ fn residual(set: &str, extra: &[&str]) -> serde_json::Value {
     serde_json::from_str(&omniad(&args)).expect("JSON report")
 }
 
+/// The residual report of a set made by `omniad synth SET SYNTH_ARGS`,
+/// and the names it selects.
+fn residual_of_synth(synth_args: &str) -> (serde_json::Value, Vec<String>) {
+    let tmp = tempfile::tempdir().expect("tempdir");
+    let set = tmp.path().join("set");
+    let set_s = set.to_str().expect("utf-8");
+    let mut args = vec!["synth", set_s];
+    args.extend(synth_args.split(' '));
+    omniad(&args);
+    let r = residual(set_s, &[]);
+    let names = r["selected"]
+        .as_array()
+        .expect("selected")
+        .iter()
+        .filter_map(|n| n.as_str().map(str::to_owned))
+        .collect();
+    (r, names)
+}
+
 /// The report's candidate `effect` tried at selection step `step`.
 fn candidate<'a>(r: &'a serde_json::Value, effect: &str, step: u64) -> &'a serde_json::Value {
     r["candidates"]
@@ -284,22 +303,16 @@ fn residual_refilters_with_the_wind_it_finds() {
 /// acceptance.
 #[test]
 fn added_mass_is_not_also_given_buoyancy() {
-    let tmp = tempfile::tempdir().expect("tempdir");
-    let set = tmp.path().join("set");
-    let set_s = set.to_str().expect("utf-8");
-    let mut args = vec!["synth", set_s];
-    args.extend("--object plate --seed 1 --effect added_mass=0.3".split(' '));
-    omniad(&args);
-    let r = residual(set_s, &[]);
-    let names: Vec<&str> = r["selected"]
-        .as_array()
-        .expect("selected")
-        .iter()
-        .filter_map(|n| n.as_str())
-        .collect();
-    assert_eq!(names.first(), Some(&"added_mass"), "{r:#}");
+    let (r, names) = residual_of_synth("--object plate --seed 1 --effect added_mass=0.3");
+    assert_eq!(
+        names.first().map(String::as_str),
+        Some("added_mass"),
+        "{r:#}"
+    );
     assert!(
-        !names.contains(&"buoyancy") && !names.contains(&"gravity_coupling"),
+        !names
+            .iter()
+            .any(|n| n == "buoyancy" || n == "gravity_coupling"),
         "{names:?}"
     );
     let refused = candidate(&r, "buoyancy", 1);
@@ -316,21 +329,13 @@ fn added_mass_is_not_also_given_buoyancy() {
 /// out near the synthesised one (the inscribed ellipsoid's, 0.022 kg).
 #[test]
 fn added_mass_without_acceleration_reaction_is_the_coupling() {
-    let tmp = tempfile::tempdir().expect("tempdir");
-    let set = tmp.path().join("set");
-    let set_s = set.to_str().expect("utf-8");
-    let mut args = vec!["synth", set_s];
-    args.extend("--object plate --seed 1 --effect added_mass_coupling=1".split(' '));
-    omniad(&args);
-    let r = residual(set_s, &[]);
-    let names: Vec<&str> = r["selected"]
-        .as_array()
-        .expect("selected")
-        .iter()
-        .filter_map(|n| n.as_str())
-        .collect();
-    assert_eq!(names.first(), Some(&"added_mass_coupling"), "{r:#}");
-    assert!(!names.contains(&"added_mass"), "{names:?}");
+    let (r, names) = residual_of_synth("--object plate --seed 1 --effect added_mass_coupling=1");
+    assert_eq!(
+        names.first().map(String::as_str),
+        Some("added_mass_coupling"),
+        "{r:#}"
+    );
+    assert!(!names.iter().any(|n| n == "added_mass"), "{names:?}");
     let kept = r["candidates"]
         .as_array()
         .expect("candidates")
