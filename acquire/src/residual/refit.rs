@@ -52,16 +52,20 @@ mod proposal;
 mod report;
 mod state;
 mod takes;
+mod wind_search;
 
 use proposal::{proposal, tentative, wind_moved};
 pub(crate) use report::describe;
 use report::summary;
 pub use report::{JumpedTake, Refit, RefitRound};
+use wind_search::FirstStates;
+pub use wind_search::WindSearch;
 
 use crate::error::{Error, Result};
 use crate::fit::context::FitContext;
 use crate::input::recording::RecordingSet;
 use crate::pipeline::{fit, FitConfig, FitOutcome};
+use crate::reconstruct::forces::Sample;
 use crate::reconstruct::run::Progress;
 use crate::residual::candidates::{Candidate, ColumnContext, ALL};
 use crate::residual::extend::{extend, Extended};
@@ -73,6 +77,7 @@ use omniad_core::effect::EffectKind;
 use omniad_core::Coefficients;
 use serde::Serialize;
 use state::{accelerate, steps, StateEffects, Steps};
+use std::cell::RefCell;
 use std::collections::BTreeMap;
 
 /// Most refits (rounds after the first).
@@ -124,28 +129,12 @@ fn problems_of(
     skip: &[usize],
     progress: &dyn Progress,
 ) -> Result<(Coefficients<f64>, Problems)> {
-    let smoothing = outcome
-        .iterations
-        .iter()
-        .rfind(|r| !r.rejected)
-        .and_then(|r| r.smoothing)
-        .ok_or_else(|| Error::Data("the base fit chose no smoothing".into()))?;
     // The coefficients alone: the frames' air wrench holds the process
     // model's effects, which the selection estimates again.
     // A given baseline is held as it is (`fixed::hold`).
     let model = match given {
         Some(g) => g.clone(),
-        None => {
-            let mut m = outcome.model.clone();
-            EffectKind::ALL.iter().for_each(|k| m.remove_effect(*k));
-            m
-        }
-    };
-    let ctx = FitContext::of_set(set);
-    let cols = ColumnContext {
-        air_density: set.world.air_density,
-        reference_length: set.object.reference_length,
-        model: &model,
+        None => bare(&outcome.model),
     };
     progress.stage("residual: normal equations", 1);
     let kept: Vec<_> = outcome
@@ -154,8 +143,44 @@ fn problems_of(
         .filter(|s| !skip.contains(&s.take))
         .copied()
         .collect();
-    let p = problems::build(
-        &kept,
+    let p = problems_on(set, outcome, &kept, &model)?;
+    let p = match given {
+        Some(g) => super::fixed::hold(p, g)?,
+        None => p,
+    };
+    progress.tick();
+    Ok((model, p))
+}
+
+/// A fitted model without its effects.
+fn bare(model: &Coefficients<f64>) -> Coefficients<f64> {
+    let mut m = model.clone();
+    EffectKind::ALL.iter().for_each(|k| m.remove_effect(*k));
+    m
+}
+
+/// The joint problems on `samples` (frames of `outcome`'s states), with
+/// `outcome`'s smoothing and `model` for the wind's linearisation.
+fn problems_on(
+    set: &RecordingSet,
+    outcome: &FitOutcome,
+    samples: &[Sample],
+    model: &Coefficients<f64>,
+) -> Result<Problems> {
+    let smoothing = outcome
+        .iterations
+        .iter()
+        .rfind(|r| !r.rejected)
+        .and_then(|r| r.smoothing)
+        .ok_or_else(|| Error::Data("the base fit chose no smoothing".into()))?;
+    let ctx = FitContext::of_set(set);
+    let cols = ColumnContext {
+        air_density: set.world.air_density,
+        reference_length: set.object.reference_length,
+        model,
+    };
+    Ok(problems::build(
+        samples,
         &outcome.reconstruction,
         &ctx,
         &cols,
@@ -164,13 +189,62 @@ fn problems_of(
             usize::from(model.torque_degree()),
         ),
         smoothing,
-    );
-    let p = match given {
-        Some(g) => super::fixed::hold(p, g)?,
-        None => p,
+    ))
+}
+
+/// The largest held-out gain the first round's proposal stands on: its
+/// selection's, or a tentative effect's at step 0 (`proposal`).
+fn rival(first: &Round, proposed: &StateEffects) -> f64 {
+    let sel = &first.sel;
+    let kept = wind_search::reduction(sel.baseline.total(), sel.after.total());
+    let tentative = proposed.effects.iter().filter_map(|e| {
+        let c = Candidate::Named(e.kind);
+        let own = sel.tried.iter().find(|t| t.step == 0 && t.candidate == c);
+        own.filter(|_| !sel.selected.contains(&c)).map(|t| t.gain)
+    });
+    tentative.fold(kept, f64::max)
+}
+
+/// The wind search on the first round's states ([`wind_search`]), when
+/// the round did not keep a wind and the base model is fitted (not given).
+fn search_wind(
+    set: &RecordingSet,
+    cfg: &FitConfig,
+    (first, proposed): (&Round, &StateEffects),
+    given: Option<&Coefficients<f64>>,
+    progress: &dyn Progress,
+) -> Option<WindSearch> {
+    if given.is_some() || first.sel.selected.contains(&Candidate::Wind) {
+        return None;
+    }
+    let (rho, l) = (set.world.air_density, set.object.reference_length);
+    let model = RefCell::new(bare(&first.outcome.model));
+    let build = |samples: &[Sample]| -> Option<Problems> {
+        progress.stage("residual: wind search", 1);
+        // C_F refitted on these frames, then the problems linearised about it.
+        let m = model.borrow().clone();
+        let p = problems_on(set, &first.outcome, samples, &m).ok()?;
+        let refitted = extend(&p, &m, &[], (cfg.lsq.damping_floor, rho, l))
+            .ok()?
+            .model;
+        let p = problems_on(set, &first.outcome, samples, &refitted).ok()?;
+        *model.borrow_mut() = refitted;
+        progress.tick();
+        Some(p)
     };
-    progress.tick();
-    Ok((model, p))
+    let at = ALL.iter().position(|c| *c == Candidate::Wind).unwrap_or(0);
+    let null_gain = NullCalibration::in_order(first.null.as_ref())
+        .get(at)
+        .copied()
+        .unwrap_or(0.0);
+    let states = FirstStates {
+        samples: &first.outcome.samples,
+        reconstruction: &first.outcome.reconstruction,
+        baseline: &first.sel.baseline,
+        rival: rival(first, proposed),
+        null_gain,
+    };
+    wind_search::search(&states, &build)
 }
 
 /// The null calibration ([`super::null`]) of the first round: the set
@@ -352,9 +426,20 @@ pub(crate) fn run(
 ) -> Result<Rounds> {
     let first = round(set, cfg, StateEffects::default(), given, None, progress)?;
     let mut trial = proposal(&first, true);
+    // A wind the linear candidate could not reach replaces what the first
+    // round kept as the refit's start: the rounds select the effects
+    // again on states reconstructed in it ([`wind_search`]).
+    let searched = search_wind(set, cfg, (&first, &trial), given, progress);
+    if let Some(s) = searched.as_ref().filter(|s| s.accepted) {
+        trial = StateEffects {
+            wind: Some(Vector3::from(s.wind)),
+            effects: Vec::new(),
+        };
+    }
     let as_array = |w: Option<Vector3<f64>>| w.map(|w| [w.x, w.y, w.z]);
     let mut refit = Refit {
         wind_before_refilter: as_array(trial.wind),
+        wind_search: searched,
         rounds: vec![summary(&first)],
         ..Refit::default()
     };

@@ -62,6 +62,9 @@ pub struct Refit {
     pub wind_before_refilter: Option<[f64; 3]>,
     /// The wind after the refits.
     pub wind_after_refilter: Option<[f64; 3]>,
+    /// The Gauss-Newton wind search on the first states, when the first
+    /// round kept no wind ([`super::wind_search`]).
+    pub wind_search: Option<super::WindSearch>,
     /// Every round, the first (no state effect) first.
     pub rounds: Vec<RefitRound>,
 }
@@ -84,8 +87,14 @@ pub(super) fn summary(r: &Round) -> RefitRound {
 
 /// The refit in words.
 pub(crate) fn describe(r: &Refit) -> Vec<String> {
+    let mut out: Vec<String> = r
+        .wind_search
+        .iter()
+        .filter(|s| s.gain > 0.0)
+        .map(searched)
+        .collect();
     if r.rounds.len() < 2 {
-        return Vec::new();
+        return out;
     }
     let what = r.rounds.get(1).map_or_else(String::new, |x| {
         let names = x
@@ -95,7 +104,7 @@ pub(crate) fn describe(r: &Refit) -> Vec<String> {
             .chain(x.effects.keys().copied());
         names.collect::<Vec<_>>().join(", ")
     });
-    let mut out = vec![format!(
+    out.push(format!(
         "Refit around the effect: every take was reconstructed and fitted again with the effects found ({what}) in the process model, {} time(s); {}.",
         r.refits,
         match (r.confirmed, r.converged) {
@@ -107,7 +116,7 @@ pub(crate) fn describe(r: &Refit) -> Vec<String> {
             (true, true) => "the selection and the parameters settled".into(),
             (true, false) => "the parameters had not settled at the cap".into(),
         }
-    )];
+    ));
     for (i, round) in r.rounds.iter().enumerate() {
         for j in &round.jumped_takes {
             out.push(format!(
@@ -127,4 +136,27 @@ pub(crate) fn describe(r: &Refit) -> Vec<String> {
         ));
     }
     out
+}
+
+/// The wind search in words.
+fn searched(s: &super::WindSearch) -> String {
+    let [x, y, z] = s.wind;
+    let verdict = if s.accepted {
+        "so the refits start from it".to_owned()
+    } else {
+        format!(
+            "not enough to start the refits from it (it needs {:.1} % and more than the {:.1} % of the effects kept, and {} of {} takes better)",
+            s.bar[0] * 100.0,
+            s.bar[1] * 100.0,
+            crate::residual::select::sign_threshold(s.takes_better.1),
+            s.takes_better.1
+        )
+    };
+    format!(
+        "Wind search (Gauss-Newton with C_F on the first states, {} steps): [{x:.3}, {y:.3}, {z:.3}] m/s predicts held-out forces {:.1} % better than no wind ({} of {} takes), {verdict}.",
+        s.steps,
+        s.gain * 100.0,
+        s.takes_better.0,
+        s.takes_better.1
+    )
 }
