@@ -196,7 +196,7 @@ fn problems_on(
 /// selection's, or a tentative effect's at step 0 (`proposal`).
 fn rival(first: &Round, proposed: &StateEffects) -> f64 {
     let sel = &first.sel;
-    let kept = wind_search::reduction(sel.baseline.total(), sel.after.total());
+    let kept = select::reduction(sel.baseline.total(), sel.after.total());
     let tentative = proposed.effects.iter().filter_map(|e| {
         let c = Candidate::Named(e.kind);
         let own = sel.tried.iter().find(|t| t.step == 0 && t.candidate == c);

@@ -281,12 +281,21 @@ impl Units {
 }
 
 /// Relative reduction from `before` to `after` (0 when `before` is 0).
-fn reduction(before: f64, after: f64) -> f64 {
+pub(crate) fn reduction(before: f64, after: f64) -> f64 {
     if before > 0.0 {
         1.0 - after / before
     } else {
         0.0
     }
+}
+
+/// How many held-out takes `s` predicts better than `than`.
+pub(crate) fn takes_better(s: &Scored, than: &Scored) -> usize {
+    s.per_take
+        .iter()
+        .zip(&than.per_take)
+        .filter(|(a, b)| a < b)
+        .count()
 }
 
 /// One candidate tried on top of `design` (the current selection, scored
@@ -305,12 +314,7 @@ fn try_candidate(
     let gain = reduction(current.total(), s.total());
     let torque_gain = reduction(current.torque_total(), s.torque_total());
     let score_gain = reduction(units.score(current), units.score(&s));
-    let better = s
-        .per_take
-        .iter()
-        .zip(&current.per_take)
-        .filter(|(a, b)| a < b)
-        .count();
+    let better = takes_better(&s, current);
     let n = s.per_take.len();
     let (values, se) = params(p, &d, &s);
     let mut rejected = plausible(c, &values, rho, l).err();

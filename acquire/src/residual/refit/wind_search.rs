@@ -30,12 +30,14 @@ use crate::reconstruct::filter::Smoothed;
 use crate::reconstruct::forces::Sample;
 use crate::residual::candidates::Candidate;
 use crate::residual::problems::Problems;
-use crate::residual::select::{design_columns, gain_bar, score, sign_threshold, Scored};
+use crate::residual::select::{
+    design_columns, gain_bar, reduction, score, sign_threshold, takes_better, Scored,
+};
 use nalgebra::{UnitQuaternion, Vector3};
 use serde::Serialize;
 
-/// Most Gauss-Newton steps (measured on MuJoCo's plate: the step falls
-/// below [`super::state::WIND_TOLERANCE`] after 6-8).
+/// Most Gauss-Newton steps (measured on MuJoCo's plate in a 1 m/s wind:
+/// the step falls below [`super::state::WIND_TOLERANCE`] after 5).
 pub const MAX_STEPS: usize = 10;
 
 /// The largest wind the search may reach, m/s (the wind candidate's own
@@ -101,15 +103,6 @@ pub(super) fn in_wind(samples: &[Sample], rec: &[Smoothed], w: &Vector3<f64>) ->
         .collect()
 }
 
-/// Relative reduction from `before` to `after` (0 when `before` is 0).
-pub(super) fn reduction(before: f64, after: f64) -> f64 {
-    if before > 0.0 {
-        1.0 - after / before
-    } else {
-        0.0
-    }
-}
-
 /// The wind increment of problems `p` (their wind columns linearised about
 /// the wind they were built in), C_F refitted with it.
 fn increment(p: &Problems) -> Option<Vector3<f64>> {
@@ -151,12 +144,7 @@ pub(super) fn search(
     }
     let gain = reduction(first.baseline.total(), s.total());
     let kept = first.rival;
-    let better = s
-        .per_take
-        .iter()
-        .zip(&first.baseline.per_take)
-        .filter(|(a, b)| a < b)
-        .count();
+    let better = takes_better(&s, first.baseline);
     let n = s.per_take.len();
     let bar = gain_bar(first.null_gain);
     Some(WindSearch {
