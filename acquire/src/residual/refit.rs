@@ -192,17 +192,18 @@ fn problems_on(
     ))
 }
 
-/// The largest held-out gain the first round's proposal stands on: its
-/// selection's, or a tentative effect's at step 0 (`proposal`).
+/// The step-0 gain of added mass when the first round proposes it
+/// (selected, or tentative in `proposal`); 0 when it does not.
 fn rival(first: &Round, proposed: &StateEffects) -> f64 {
-    let sel = &first.sel;
-    let kept = select::reduction(sel.baseline.total(), sel.after.total());
-    let tentative = proposed.effects.iter().filter_map(|e| {
-        let c = Candidate::Named(e.kind);
-        let own = sel.tried.iter().find(|t| t.step == 0 && t.candidate == c);
-        own.filter(|_| !sel.selected.contains(&c)).map(|t| t.gain)
-    });
-    tentative.fold(kept, f64::max)
+    let am = Candidate::Named(EffectKind::AddedMass);
+    let proposes =
+        first.sel.selected.contains(&am) || proposed.effect(EffectKind::AddedMass).is_some();
+    let step0 = first
+        .sel
+        .tried
+        .iter()
+        .find(|t| t.step == 0 && t.candidate == am);
+    step0.filter(|_| proposes).map_or(0.0, |t| t.gain)
 }
 
 /// The wind search on the first round's states ([`wind_search`]), when
@@ -241,8 +242,14 @@ fn search_wind(
         samples: &first.outcome.samples,
         reconstruction: &first.outcome.reconstruction,
         baseline: &first.sel.baseline,
+        selection: &first.sel.selected,
         rival: rival(first, proposed),
         null_gain,
+        up: -set
+            .world
+            .gravity
+            .try_normalize(f64::EPSILON)
+            .unwrap_or_else(|| -Vector3::z()),
     };
     wind_search::search(&states, &build)
 }

@@ -145,18 +145,34 @@ fn searched(s: &super::WindSearch) -> String {
         "so the refits start from it".to_owned()
     } else {
         format!(
-            "not enough to start the refits from it (it needs {:.1} % and more than the {:.1} % of the effects kept, and {} of {} takes better)",
+            "not enough to start the refits from it (it needs {:.1} % and {} of {} takes better, alone and on top of {}, and more than the added mass's {:.1} %)",
             s.bar[0] * 100.0,
-            s.bar[1] * 100.0,
             crate::residual::select::sign_threshold(s.takes_better.1),
-            s.takes_better.1
+            s.takes_better.1,
+            selection(&s.selection),
+            s.bar[1] * 100.0
         )
     };
     format!(
-        "Wind search (Gauss-Newton with C_F on the first states, {} steps): [{x:.3}, {y:.3}, {z:.3}] m/s predicts held-out forces {:.1} % better than no wind ({} of {} takes), {verdict}.",
+        "Wind search (Gauss-Newton with C_F on the first states from [{:.1}, {:.1}, {:.1}] m/s, the best start, {} steps): [{x:.3}, {y:.3}, {z:.3}] m/s predicts held-out forces {:.1} % better than no wind ({} of {} takes) and on top of {} {:.1} % better ({} takes), {verdict}.",
+        s.start[0],
+        s.start[1],
+        s.start[2],
         s.steps,
         s.gain * 100.0,
         s.takes_better.0,
-        s.takes_better.1
+        s.takes_better.1,
+        selection(&s.selection),
+        s.over_selection.0 * 100.0,
+        s.over_selection.1 .0
     )
+}
+
+/// The first round's selection in words.
+fn selection(names: &[&str]) -> String {
+    if names.is_empty() {
+        "the base model (nothing selected)".into()
+    } else {
+        names.join(", ")
+    }
 }
