@@ -220,8 +220,10 @@ fn search_wind(
     }
     let (rho, l) = (set.world.air_density, set.object.reference_length);
     let model = RefCell::new(bare(&first.outcome.model));
+    // One bar for the search, a tick per wind judged (its length the most
+    // it can judge; the search usually stops well before).
+    progress.stage("residual: wind search", wind_search::MAX_JUDGED);
     let build = |samples: &[Sample]| -> Option<Problems> {
-        progress.stage("residual: wind search", 1);
         // C_F refitted on these frames, then the problems linearised about it.
         let m = model.borrow().clone();
         let p = problems_on(set, &first.outcome, samples, &m).ok()?;

@@ -79,6 +79,10 @@ pub const AZIMUTHS: usize = 8;
 /// Most halvings of a step that does not lower the held-out error.
 pub const HALVINGS: usize = 4;
 
+/// Most winds the search judges: the starts, every step at its every
+/// halving, and the selection in no wind once more.
+pub const MAX_JUDGED: usize = 1 + START_SPEEDS.len() * AZIMUTHS + MAX_STEPS * (HALVINGS + 1) + 1;
+
 /// What the search found and how it was judged.
 #[derive(Clone, Debug, Serialize)]
 pub struct WindSearch {
