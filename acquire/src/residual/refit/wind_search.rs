@@ -79,9 +79,9 @@ pub const AZIMUTHS: usize = 8;
 /// Most halvings of a step that does not lower the held-out error.
 pub const HALVINGS: usize = 4;
 
-/// Most winds the search judges: the starts, every step at its every
-/// halving, and the selection in no wind once more.
-pub const MAX_JUDGED: usize = 1 + START_SPEEDS.len() * AZIMUTHS + MAX_STEPS * (HALVINGS + 1) + 1;
+/// Most winds the search judges: the starts and every step at its every
+/// halving.
+pub const MAX_JUDGED: usize = 1 + START_SPEEDS.len() * AZIMUTHS + MAX_STEPS * (HALVINGS + 1);
 
 /// What the search found and how it was judged.
 #[derive(Clone, Debug, Serialize)]
@@ -225,9 +225,14 @@ pub(super) fn search(
         let s = score(&p, &[])?;
         (s.per_take.len() == n).then_some(Point { w: *w, p, s })
     };
-    let best = starts(&first.up)
-        .iter()
-        .filter_map(&judge)
+    // No wind is the first start; the selection's score there is what the
+    // wind found must improve on (`over_selection`).
+    let starts = starts(&first.up);
+    let no_wind = starts.first().and_then(&judge);
+    let selection_in_no_wind = no_wind.as_ref().and_then(|z| score(&z.p, first.selection));
+    let best = no_wind
+        .into_iter()
+        .chain(starts.iter().skip(1).filter_map(&judge))
         .min_by(|a, b| a.s.total().total_cmp(&b.s.total()))?;
     let start = best.w;
     let mut at = best;
@@ -246,7 +251,7 @@ pub(super) fn search(
     let w = at.w;
     let gain = reduction(first.baseline.total(), at.s.total());
     let better = takes_better(&at.s, first.baseline);
-    let over = over_selection(first.selection, &at, &judge);
+    let over = over_selection(first.selection, selection_in_no_wind.as_ref(), &at);
     let bar = gain_bar(first.null_gain);
     let significant = |g: f64, b: usize| g >= bar && b >= sign_threshold(n);
     Some(WindSearch {
@@ -264,17 +269,11 @@ pub(super) fn search(
 }
 
 /// The gain of the selection `design` in the wind of `at` over it in no
-/// wind, and the takes it predicts better (the gain alone when nothing
-/// is selected; none when either cannot be scored).
-fn over_selection(
-    design: &[Candidate],
-    at: &Point,
-    judge: &dyn Fn(&Vector3<f64>) -> Option<Point>,
-) -> (f64, usize) {
-    let none = judge(&Vector3::zeros());
-    let with = score(&at.p, design);
-    match (none.and_then(|z| score(&z.p, design)), with) {
-        (Some(a), Some(b)) => (reduction(a.total(), b.total()), takes_better(&b, &a)),
+/// wind (`in_no_wind`), and the takes it predicts better (the gain alone
+/// when nothing is selected; none when either cannot be scored).
+fn over_selection(design: &[Candidate], in_no_wind: Option<&Scored>, at: &Point) -> (f64, usize) {
+    match (in_no_wind, score(&at.p, design)) {
+        (Some(a), Some(b)) => (reduction(a.total(), b.total()), takes_better(&b, a)),
         _ => (f64::NEG_INFINITY, 0),
     }
 }
