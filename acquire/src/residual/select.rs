@@ -280,6 +280,14 @@ impl Units {
     }
 }
 
+/// Relative reduction of the force-and-torque score ([`Units::score`],
+/// in the units of `baseline`) from `before` to `after`: what the
+/// selection's `score_gain` measures.
+pub(crate) fn score_reduction(baseline: &Scored, before: &Scored, after: &Scored) -> f64 {
+    let units = Units::of(baseline);
+    reduction(units.score(before), units.score(after))
+}
+
 /// Relative reduction from `before` to `after` (0 when `before` is 0).
 pub(crate) fn reduction(before: f64, after: f64) -> f64 {
     if before > 0.0 {

@@ -26,6 +26,11 @@ pub struct RefitRound {
     /// error jumped while the others settled, [`super::takes::jumps`]):
     /// left out of the round's selection and held-out figures.
     pub jumped_takes: Vec<JumpedTake>,
+    /// The carried wind's increment the round did not keep, significant
+    /// but rejected by its linearised judgement, that moved the wind
+    /// once judged exactly on the round's frames ([`super::wind_step`];
+    /// world, m/s).
+    pub judged_wind_step: Option<[f64; 3]>,
 }
 
 /// A take whose held-out error jumped in a round ([`super::takes::jumps`]).
@@ -58,12 +63,17 @@ pub struct Refit {
     /// confirmed them, but predicted held-out takes less than [`MIN_GAIN`]
     /// better than the first round: the first round's result stands.
     pub no_gain: bool,
+    /// The rounds converged on a round that predicted held-out forces
+    /// more than [`MIN_GAIN`] worse than the confirmed round before it
+    /// (the same state effects within the tolerances): that round before
+    /// stands (`refit::worse_than_before`).
+    pub kept_previous_round: bool,
     /// The wind found on the states reconstructed without it (world, m/s).
     pub wind_before_refilter: Option<[f64; 3]>,
     /// The wind after the refits.
     pub wind_after_refilter: Option<[f64; 3]>,
-    /// The Gauss-Newton wind search on the first states, when the first
-    /// round kept no wind ([`super::wind_search`]).
+    /// The Gauss-Newton wind search on the first states (from the wind
+    /// the first round kept, too, [`super::wind_search`]).
     pub wind_search: Option<super::WindSearch>,
     /// Every round, the first (no state effect) first.
     pub rounds: Vec<RefitRound>,
@@ -82,6 +92,7 @@ pub(super) fn summary(r: &Round) -> RefitRound {
         heldout_force_rms: [r.sel.baseline.force_rms, r.sel.after.force_rms],
         tentative: tentative(r).iter().map(|k| k.name()).collect(),
         jumped_takes: Vec::new(),
+        judged_wind_step: r.judged_step.map(|w| [w.x, w.y, w.z]),
     }
 }
 
@@ -113,6 +124,10 @@ pub(crate) fn describe(r: &Refit) -> Vec<String> {
                 MIN_GAIN * 100.0
             ),
             (false, _) => "the refitted states did not confirm it, so the first result stands".into(),
+            (true, true) if r.kept_previous_round => format!(
+                "the selection and the parameters settled, but the last round predicted held-out takes more than {:.0} % worse than the one before, which stands",
+                MIN_GAIN * 100.0
+            ),
             (true, true) => "the selection and the parameters settled".into(),
             (true, false) => "the parameters had not settled at the cap".into(),
         }
@@ -141,11 +156,18 @@ pub(crate) fn describe(r: &Refit) -> Vec<String> {
 /// The wind search in words.
 fn searched(s: &super::WindSearch) -> String {
     let [x, y, z] = s.wind;
-    let verdict = if s.accepted {
-        "so the refits start from it".to_owned()
+    let instead = if s.linear.is_some() {
+        " instead of the first round's wind"
+    } else {
+        ""
+    };
+    let verdict = if s.accepted && s.moved() {
+        format!("so the refits start from it{instead}")
+    } else if s.accepted {
+        "the wind the first round kept, so its proposal stands".to_owned()
     } else {
         format!(
-            "not enough to start the refits from it (it needs {:.1} % and {} of {} takes better, alone and on top of {}, and more than the added mass's {:.1} %)",
+            "not enough to start the refits from it{instead} (it needs {:.1} % and {} of {} takes better, alone and on top of {}, and more than the added mass's {:.1} %)",
             s.bar[0] * 100.0,
             crate::residual::select::sign_threshold(s.takes_better.1),
             s.takes_better.1,
