@@ -110,6 +110,20 @@ pub(crate) struct Round {
     pub judged_step: Option<Vector3<f64>>,
 }
 
+impl Round {
+    /// The round's selection without the wind: the effects a wind blows
+    /// beside (the wind search and the exact wind step judge the wind on
+    /// top of them).
+    pub(super) fn selected_besides_wind(&self) -> Vec<Candidate> {
+        self.sel
+            .selected
+            .iter()
+            .copied()
+            .filter(|c| *c != Candidate::Wind)
+            .collect()
+    }
+}
+
 /// The fit of `set` with `effects` in the process model, the model the
 /// candidates are fitted against (the coefficients alone, or `given`) and
 /// the joint problems on its states.
@@ -229,13 +243,7 @@ fn search_wind(
         return None;
     }
     let kept = first.sel.selected.contains(&Candidate::Wind);
-    let selection: Vec<Candidate> = first
-        .sel
-        .selected
-        .iter()
-        .copied()
-        .filter(|c| *c != Candidate::Wind)
-        .collect();
+    let selection = first.selected_besides_wind();
     let (rho, l) = (set.world.air_density, set.object.reference_length);
     let model = RefCell::new(bare(&first.outcome.model));
     // One bar for the search, a tick per wind judged (its length the most

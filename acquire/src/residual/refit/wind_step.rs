@@ -21,7 +21,6 @@
 use super::wind_search::{in_wind, HALVINGS};
 use super::Round;
 use crate::reconstruct::forces::Sample;
-use crate::residual::candidates::Candidate;
 use crate::residual::problems::Problems;
 use crate::residual::select::{reduction, score, score_reduction, Scored};
 use nalgebra::Vector3;
@@ -44,13 +43,7 @@ pub(super) fn judge(
         .filter(|s| takes.contains(&s.take))
         .copied()
         .collect();
-    let design: Vec<Candidate> = r
-        .sel
-        .selected
-        .iter()
-        .copied()
-        .filter(|c| *c != Candidate::Wind)
-        .collect();
+    let design = r.selected_besides_wind();
     let scored = |frames: &[Sample]| -> Option<Scored> {
         let s = score(&build(frames)?, &design)?;
         (s.per_take.len() == takes.len()).then_some(s)
