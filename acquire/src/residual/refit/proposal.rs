@@ -51,10 +51,8 @@ pub(super) fn significant_increment(tried: &[select::Tried]) -> Option<(Vector3<
 /// The wind increment of round `r` when it did not keep the wind but the
 /// increment is still significant ([`significant_increment`]) and helps:
 /// linearised, or else judged exactly (`r.judged_step`,
-/// [`super::wind_step`]). The linearised torque response of a large
-/// step can misjudge it (MuJoCo's box in a 1 m/s wind: an increment of
-/// (0.12, 0.03, -0.86) m/s, 7 standard errors, rejected by its
-/// linearised torque).
+/// [`super::wind_step`]): the linearised response of a large step can
+/// misjudge it (measured there).
 fn still_moving(r: &Round) -> Option<Vector3<f64>> {
     match significant_increment(&r.sel.tried)? {
         (dw, true) => Some(dw),

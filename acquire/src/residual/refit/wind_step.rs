@@ -3,14 +3,14 @@
 //!
 //! Why: in a round that holds a wind, the wind candidate is the base
 //! model's response linearised about that wind, and its held-out force
-//! and torque gains are those of the linearisation. For a step of a
-//! sizeable fraction of the fall speed the linearised torque response is
-//! poor: measured on MuJoCo's box in a (1, 0, 0) m/s wind (seed 3), the
-//! rounds held (0.90, -0.06, 0.66) m/s and found an increment of (0.12,
-//! 0.03, -0.86) ± (0.04, 0.05, 0.16) m/s, many standard errors, rejected
-//! because its linearised torque made the force-and-torque score worse;
-//! the wind froze with a vertical part that C_F's scale absorbed (C_F 32 %
-//! off). A significant increment the linearisation rejects is therefore
+//! and torque gains are those of the linearisation, which for a step of
+//! a sizeable fraction of the fall speed can misjudge it. Measured on
+//! MuJoCo's plate in a (1.4, 0.5, 0) m/s wind (seed 2), where the first
+//! round's search is the same with or without this: the rounds held
+//! (1.36, 0.87, 0.19) m/s with the increments rejected and C_F 25 % off;
+//! judged exactly, the increments of refits 1 and 2 ((0.02, -0.13,
+//! -0.05), (0.02, -0.09, 0.04) m/s) moved it to (1.41, 0.58, 0.21), C_F
+//! 22 % off. A significant increment the linearisation rejects is therefore
 //! judged as the wind search judges a wind ([`super::wind_search`]): the
 //! frames' air velocity moved by it (`in_wind`), C_F and C_T refitted in
 //! each held-out fold, and the round's selection scored there against
