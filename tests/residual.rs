@@ -170,6 +170,19 @@ fn assert_item7_keys(r: &serde_json::Value) {
             "resimulation.{k}: {r:#}"
         );
     }
+    // Every take analysed is re-simulated on its own, and the set's RMS
+    // is the takes' frames pooled: it lies within their range.
+    let takes = r["resimulation"]["takes"].as_array().expect("takes");
+    assert!(!takes.is_empty(), "{r:#}");
+    for k in ["base_m", "extended_m"] {
+        let each: Vec<f64> = takes.iter().filter_map(|t| t[k].as_f64()).collect();
+        assert_eq!(each.len(), takes.len(), "{k}: {takes:#?}");
+        let all = r["resimulation"][k].as_f64().expect("rms");
+        let (lo, hi) = each
+            .iter()
+            .fold((f64::MAX, 0.0f64), |(lo, hi), &e| (lo.min(e), hi.max(e)));
+        assert!(lo <= all && all <= hi, "{k}: {all} outside [{lo}, {hi}]");
+    }
 }
 
 /// `--coeffs FILE`: the panel model of the synthetic plate (the generator's

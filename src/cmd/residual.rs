@@ -127,11 +127,17 @@ fn print_text(r: &Report) {
             r.selected.join(", ")
         }
     );
-    if let Some(s) = r.resimulation {
+    if let Some(s) = &r.resimulation {
         println!(
             "re-simulation, first 0.5 s of each take: {:.4} m base, {:.4} m extended",
             s.base_m, s.extended_m
         );
+        for t in &s.takes {
+            println!(
+                "  {:<16} {:.4} m base, {:.4} m extended",
+                t.take, t.base_m, t.extended_m
+            );
+        }
     }
     if let Some(t) = r.cf_error_vs_truth {
         println!(

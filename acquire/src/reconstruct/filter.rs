@@ -165,6 +165,17 @@ impl Smoothed {
         let block = self.attitude_velocity_cov.get(k)?;
         Some(body_velocity_cov(self.states.get(k)?, block))
     }
+
+    /// The first epoch the smoother linked to the epoch after it (no cut
+    /// between them): where a re-simulation of the take can start. An epoch
+    /// cut off from the rest keeps the filter's prior velocity and angular
+    /// velocity (the markers see poses only): after a cut at epoch 1 the
+    /// first state is at rest while the object falls at 3 m/s. `None` when
+    /// no two consecutive epochs are linked.
+    pub fn first_linked(&self) -> Option<usize> {
+        (0..self.states.len().saturating_sub(1))
+            .find(|&k| !self.cuts.get(k + 1).copied().unwrap_or(false))
+    }
 }
 
 /// Everything the filter needs besides the observations.

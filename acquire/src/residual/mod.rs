@@ -38,6 +38,7 @@ use crate::pipeline::FitConfig;
 use crate::reconstruct::run::Progress;
 use nalgebra::Vector3;
 use omniad_core::Coefficients;
+pub use resimulate::{Resimulation, TakeResimulation};
 use serde::Serialize;
 use std::path::Path;
 
@@ -92,15 +93,6 @@ pub struct CandidateReport {
     /// ([`null`]): it is kept only with a gain at least
     /// [`select::MIN_GAIN`] above this (or above 0 when it is negative).
     pub null_gain: f64,
-}
-
-/// Trajectory RMS position error over the first 0.5 s, m.
-#[derive(Clone, Copy, Debug, Serialize)]
-pub struct Resimulation {
-    /// With the base model.
-    pub base_m: f64,
-    /// With the extended model.
-    pub extended_m: f64,
 }
 
 /// C_F relative error against `truth/` (synthetic sets).
@@ -196,19 +188,19 @@ pub fn analyse(
     let last = rounds.last.as_ref().unwrap_or(first);
     let (selected, params) = refit::selection(&rounds, last);
     let diagnosis = diagnose::diagnose(&first.p, &first.sel.baseline.residuals);
-    let resimulation = resimulate::position_rms(
+    let resimulation = resimulate::compare(
         set,
-        &first.outcome.reconstruction,
-        &first.outcome.model,
-        Vector3::zeros(),
-    )
-    .zip(resimulate::position_rms(
-        set,
-        &last.outcome.reconstruction,
-        &last.ext.model,
-        rounds.wind.unwrap_or_else(Vector3::zeros),
-    ))
-    .map(|(base_m, extended_m)| Resimulation { base_m, extended_m });
+        &resimulate::Run {
+            reconstruction: &first.outcome.reconstruction,
+            model: &first.outcome.model,
+            wind: Vector3::zeros(),
+        },
+        &resimulate::Run {
+            reconstruction: &last.outcome.reconstruction,
+            model: &last.ext.model,
+            wind: rounds.wind.unwrap_or_else(Vector3::zeros),
+        },
+    );
     let cf_error_vs_truth = truth_error(
         dir,
         &first.outcome.model,

@@ -67,9 +67,10 @@ const SUBSTEPS: usize = 10;
 /// The replica's noise seed: fixed, so an analysis is reproducible.
 const SEED: u64 = 0x6e75_6c6c;
 
-/// The recording `set` re-simulated with `model` from the first states of
-/// `rec` (one per take; an empty one, a take left out, is left out of the
-/// replica too); `None` when the body is not valid.
+/// The recording `set` re-simulated with `model` from the first linked
+/// states of `rec` ([`Smoothed::first_linked`]; one per take; an empty one,
+/// a take left out, is left out of the replica too); `None` when the body
+/// is not valid.
 pub(crate) fn replica(
     set: &RecordingSet,
     rec: &[Smoothed],
@@ -92,7 +93,8 @@ pub(crate) fn replica(
         .iter()
         .zip(rec)
         .filter_map(|(take, r)| {
-            let start = (*r.times.first()?, *r.states.first()?);
+            let k0 = r.first_linked()?;
+            let start = (*r.times.get(k0)?, *r.states.get(k0)?);
             let states = trajectory(&body, &env, &forces, start, &take.epochs)?;
             Some(observed(set, take, &states, &mut rng))
         })
