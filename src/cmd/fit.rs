@@ -281,6 +281,7 @@ fn report(o: &FitOutcome, loaded: f64, total: f64) -> serde_json::Value {
             "dropped": {
                 "thrust_f_dot_v_positive": last.map(|r| r.forces.dropped_thrust),
                 "spin_up_t_dot_omega_positive_torque_fit_only": last.map(|r| r.forces.dropped_spin_up),
+                "difference_across_a_branch_cut": last.map(|r| r.forces.across_cut),
                 "outlier_marker_rows_gated": last.map(|r| r.filter.gated),
                 "empty_frames": last.map(|r| r.filter.empty_frames),
             },

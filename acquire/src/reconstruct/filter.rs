@@ -166,15 +166,22 @@ impl Smoothed {
         Some(body_velocity_cov(self.states.get(k)?, block))
     }
 
-    /// The first epoch the smoother linked to the epoch after it (no cut
-    /// between them): where a re-simulation of the take can start. An epoch
-    /// cut off from the rest keeps the filter's prior velocity and angular
-    /// velocity (the markers see poses only): after a cut at epoch 1 the
-    /// first state is at rest while the object falls at 3 m/s. `None` when
-    /// no two consecutive epochs are linked.
+    /// Whether the smoother linked epochs `from..=to` into one chain (no
+    /// cut after `from` up to `to`): differences of their states are
+    /// differences along one smoothed trajectory.
+    pub fn linked(&self, from: usize, to: usize) -> bool {
+        to < self.states.len()
+            && !(from + 1..=to).any(|k| self.cuts.get(k).copied().unwrap_or(false))
+    }
+
+    /// The first epoch the smoother linked to the epoch after it
+    /// ([`Self::linked`]): where a re-simulation of the take can start. An
+    /// epoch cut off from the rest keeps the filter's prior velocity and
+    /// angular velocity (the markers see poses only): after a cut at epoch
+    /// 1 the first state is at rest while the object falls at 3 m/s.
+    /// `None` when no two consecutive epochs are linked.
     pub fn first_linked(&self) -> Option<usize> {
-        (0..self.states.len().saturating_sub(1))
-            .find(|&k| !self.cuts.get(k + 1).copied().unwrap_or(false))
+        (0..self.states.len()).find(|&k| self.linked(k, k + 1))
     }
 }
 
