@@ -155,41 +155,13 @@ fn take_error(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use omniad_core::State;
 
-    /// A free fall in vacuum from 3 m/s down, sampled at 60 Hz, whose first
-    /// epoch is cut off from the rest and kept the filter's prior (at rest),
-    /// as the last refit round reconstructed MuJoCo's plate's `spin-09`.
-    fn fall_cut_after_first_epoch() -> Smoothed {
-        let g = Vector3::new(0.0, 0.0, -9.81);
-        let v0 = Vector3::new(0.0, 0.0, -3.0);
-        let times: Vec<f64> = (0..40).map(|k| k as f64 / 60.0).collect();
-        let mut states: Vec<State<f64>> = times
-            .iter()
-            .map(|&t| {
-                let mut s = State::at_rest(v0 * t + g * (0.5 * t * t));
-                s.velocity = v0 + g * t;
-                s
-            })
-            .collect();
-        if let Some(first) = states.first_mut() {
-            first.velocity = Vector3::zeros();
-        }
-        let mut cuts = vec![false; times.len()];
-        if let Some(c) = cuts.get_mut(1) {
-            *c = true;
-        }
-        Smoothed {
-            times,
-            states,
-            cuts,
-            ..Smoothed::default()
-        }
-    }
-
+    /// A fall whose epoch 0 is cut off (at rest, the filter's prior) is
+    /// re-simulated from epoch 1, exactly; from epoch 0 it would trail the
+    /// recording by 3 m/s.
     #[test]
     fn a_take_is_re_simulated_from_its_first_linked_state() {
-        let r = fall_cut_after_first_epoch();
+        let r = crate::reconstruct::forces::tests::fall(40, Some(1));
         assert_eq!(r.first_linked(), Some(1));
         let body = RigidBody::new(0.05, nalgebra::Matrix3::identity() * 1e-4).unwrap();
         let env = Environment {
