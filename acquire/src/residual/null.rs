@@ -39,6 +39,7 @@
 use crate::input::recording::{RecordingSet, Take};
 use crate::input::tracks::{Epoch, MarkerSighting, Observation};
 use crate::reconstruct::filter::Smoothed;
+use crate::residual::resimulate::states_at;
 use crate::rng::Rng;
 use nalgebra::{Vector2, Vector3};
 use omniad_core::rigid_body::AirForces;
@@ -60,9 +61,6 @@ pub(crate) fn bound(g: &[f64]) -> f64 {
     let var = g.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (n - 1.0).max(1.0);
     mean + Z * var.sqrt()
 }
-
-/// RK4 steps per frame interval (as `omniad synth`).
-const SUBSTEPS: usize = 10;
 
 /// The replica's noise seed: fixed, so an analysis is reproducible.
 const SEED: u64 = 0x6e75_6c6c;
@@ -95,7 +93,12 @@ pub(crate) fn replica(
         .filter_map(|(take, r)| {
             let k0 = r.first_linked()?;
             let start = (*r.times.get(k0)?, *r.states.get(k0)?);
-            let states = trajectory(&body, &env, &forces, start, &take.epochs)?;
+            let times = take.epochs.iter().map(|e| e.t);
+            let states: Vec<_> = states_at(&body, &env, &forces, start, times).collect();
+            // A replica that leaves the finite numbers is no recording.
+            if states.len() < take.epochs.len() {
+                return None;
+            }
             Some(observed(set, take, &states, &mut rng))
         })
         .collect();
@@ -106,35 +109,6 @@ pub(crate) fn replica(
         camera: set.camera.clone(),
         takes,
     })
-}
-
-/// The states at each epoch of `epochs` from `start` (time, state);
-/// epochs before the start keep the start state. `None` when the
-/// integration leaves the finite numbers.
-fn trajectory(
-    body: &RigidBody<f64>,
-    env: &Environment<f64>,
-    forces: &AirForces<'_, f64>,
-    (t0, start): (f64, State<f64>),
-    epochs: &[Epoch],
-) -> Option<Vec<State<f64>>> {
-    let (mut t, mut s) = (t0, start);
-    let mut out = Vec::with_capacity(epochs.len());
-    for e in epochs {
-        if e.t > t {
-            let dt = (e.t - t) / SUBSTEPS as f64;
-            for _ in 0..SUBSTEPS {
-                s = omniad_core::integrate::rk4_step(body, env, forces, t, dt, &s);
-                t += dt;
-            }
-            t = e.t;
-        }
-        if !s.is_finite() {
-            return None;
-        }
-        out.push(s);
-    }
-    Some(out)
 }
 
 /// `take` with each observation replaced by what the camera would see of

@@ -12,13 +12,13 @@ use crate::input::recording::RecordingSet;
 use crate::reconstruct::filter::Smoothed;
 use nalgebra::Vector3;
 use omniad_core::rigid_body::AirForces;
-use omniad_core::{Coefficients, Environment, RigidBody};
+use omniad_core::{Coefficients, Environment, RigidBody, State};
 use serde::Serialize;
 
 /// Seconds of each take re-simulated.
 pub const HORIZON: f64 = 0.5;
 
-/// RK4 steps per frame interval.
+/// RK4 steps per frame interval (as `omniad synth`).
 const SUBSTEPS: usize = 10;
 
 /// Trajectory RMS position error over the first [`HORIZON`] s, m.
@@ -131,25 +131,41 @@ fn take_error(
     let (Some(&t0), Some(&start)) = (r.times.get(k0), r.states.get(k0)) else {
         return sums;
     };
-    let mut s = start;
-    let mut t = t0;
-    for (time, truth) in r.times.iter().zip(&r.states).skip(k0 + 1) {
-        if time - t0 > HORIZON {
-            break;
-        }
-        let dt = (time - t) / SUBSTEPS as f64;
-        for _ in 0..SUBSTEPS {
-            s = omniad_core::integrate::rk4_step(body, env, forces, t, dt, &s);
-            t += dt;
-        }
-        t = *time;
-        if !s.is_finite() {
-            break;
-        }
+    let recorded = r.times.iter().zip(&r.states).skip(k0 + 1);
+    let recorded: Vec<_> = recorded.take_while(|(t, _)| *t - t0 <= HORIZON).collect();
+    let times = recorded.iter().map(|(t, _)| **t);
+    for (s, (_, truth)) in states_at(body, env, forces, (t0, start), times).zip(&recorded) {
         sums.squared += (s.position - truth.position).norm_squared();
         sums.frames += 1;
     }
     sums
+}
+
+/// The states of a body started in `start` (time s, state) at each of
+/// `times` (s), [`SUBSTEPS`] RK4 steps between one and the next; a time
+/// at or before the last keeps its state. The states end at the first
+/// that is not finite. Both the re-simulation and the null replicas
+/// (`residual::null`) fly a model this way.
+pub(crate) fn states_at<'a>(
+    body: &'a RigidBody<f64>,
+    env: &'a Environment<f64>,
+    forces: &'a AirForces<'a, f64>,
+    (t0, start): (f64, State<f64>),
+    times: impl Iterator<Item = f64> + 'a,
+) -> impl Iterator<Item = State<f64>> + 'a {
+    times
+        .scan((t0, start), move |(t, s), time| {
+            if time > *t {
+                let dt = (time - *t) / SUBSTEPS as f64;
+                for _ in 0..SUBSTEPS {
+                    *s = omniad_core::integrate::rk4_step(body, env, forces, *t, dt, s);
+                    *t += dt;
+                }
+                *t = time;
+            }
+            Some(*s)
+        })
+        .take_while(State::is_finite)
 }
 
 #[cfg(test)]
@@ -184,5 +200,43 @@ mod tests {
         assert_eq!(linked.first_linked(), Some(0));
         let from_rest = rms(&[take_error(&body, &env, &forces, &linked)]).unwrap();
         assert!(from_rest > 0.3, "RMS {from_rest} m");
+    }
+
+    /// A time at or before the last keeps the state; later ones are
+    /// reached by [`SUBSTEPS`] RK4 steps (the fall's `z(t)` to RK4's
+    /// exactness on a polynomial); a state that leaves the finite numbers
+    /// ends the states.
+    #[test]
+    fn states_at_each_time_and_none_after_a_non_finite_one() {
+        let body = RigidBody::new(0.05, nalgebra::Matrix3::identity() * 1e-4).unwrap();
+        let env = Environment {
+            gravity: Vector3::new(0.0, 0.0, -9.81),
+            air_density: 0.0,
+            wind: Vector3::zeros(),
+        };
+        let model = Coefficients::zeros(2, Vector3::z(), 0.3).unwrap();
+        let forces = AirForces {
+            model: &model,
+            environment: env,
+        };
+        let start = State {
+            position: Vector3::new(0.0, 0.0, 5.0),
+            orientation: nalgebra::UnitQuaternion::identity(),
+            velocity: Vector3::new(1.0, 0.0, 0.0),
+            angular_velocity: Vector3::zeros(),
+        };
+        let times = [0.5, 1.0, 1.0, 1.5];
+        let s: Vec<_> = states_at(&body, &env, &forces, (1.0, start), times.into_iter()).collect();
+        assert_eq!(s.len(), 4);
+        assert_eq!((s[0].position, s[1].position), (start.position, start.position));
+        assert_eq!(s[2].position, start.position);
+        let z = 5.0 - 0.5 * 9.81 * 0.25;
+        assert!((s[3].position - Vector3::new(0.5, 0.0, z)).norm() < 1e-12, "{}", s[3].position);
+        let lost = State {
+            velocity: Vector3::new(f64::NAN, 0.0, 0.0),
+            ..start
+        };
+        let s = states_at(&body, &env, &forces, (1.0, lost), times.into_iter());
+        assert_eq!(s.count(), 0);
     }
 }
