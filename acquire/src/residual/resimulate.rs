@@ -172,6 +172,21 @@ pub(crate) fn states_at<'a>(
 mod tests {
     use super::*;
 
+    /// A 50 g body in gravity with no air, and a zero model.
+    fn vacuum() -> (RigidBody<f64>, Environment<f64>, Coefficients<f64>) {
+        let body = RigidBody::new(0.05, nalgebra::Matrix3::identity() * 1e-4).unwrap();
+        let env = Environment {
+            gravity: Vector3::new(0.0, 0.0, -9.81),
+            air_density: 0.0,
+            wind: Vector3::zeros(),
+        };
+        (
+            body,
+            env,
+            Coefficients::zeros(2, Vector3::z(), 0.3).unwrap(),
+        )
+    }
+
     /// A fall whose epoch 0 is cut off (at rest, the filter's prior) is
     /// re-simulated from epoch 1, exactly; from epoch 0 it would trail the
     /// recording by 3 m/s.
@@ -179,13 +194,7 @@ mod tests {
     fn a_take_is_re_simulated_from_its_first_linked_state() {
         let r = crate::reconstruct::forces::tests::fall(40, Some(1));
         assert_eq!(r.first_linked(), Some(1));
-        let body = RigidBody::new(0.05, nalgebra::Matrix3::identity() * 1e-4).unwrap();
-        let env = Environment {
-            gravity: Vector3::new(0.0, 0.0, -9.81),
-            air_density: 0.0,
-            wind: Vector3::zeros(),
-        };
-        let model = Coefficients::zeros(2, Vector3::z(), 0.3).unwrap();
+        let (body, env, model) = vacuum();
         let forces = AirForces {
             model: &model,
             environment: env,
@@ -208,13 +217,7 @@ mod tests {
     /// ends the states.
     #[test]
     fn states_at_each_time_and_none_after_a_non_finite_one() {
-        let body = RigidBody::new(0.05, nalgebra::Matrix3::identity() * 1e-4).unwrap();
-        let env = Environment {
-            gravity: Vector3::new(0.0, 0.0, -9.81),
-            air_density: 0.0,
-            wind: Vector3::zeros(),
-        };
-        let model = Coefficients::zeros(2, Vector3::z(), 0.3).unwrap();
+        let (body, env, model) = vacuum();
         let forces = AirForces {
             model: &model,
             environment: env,
@@ -228,10 +231,17 @@ mod tests {
         let times = [0.5, 1.0, 1.0, 1.5];
         let s: Vec<_> = states_at(&body, &env, &forces, (1.0, start), times.into_iter()).collect();
         assert_eq!(s.len(), 4);
-        assert_eq!((s[0].position, s[1].position), (start.position, start.position));
+        assert_eq!(
+            (s[0].position, s[1].position),
+            (start.position, start.position)
+        );
         assert_eq!(s[2].position, start.position);
         let z = 5.0 - 0.5 * 9.81 * 0.25;
-        assert!((s[3].position - Vector3::new(0.5, 0.0, z)).norm() < 1e-12, "{}", s[3].position);
+        assert!(
+            (s[3].position - Vector3::new(0.5, 0.0, z)).norm() < 1e-12,
+            "{}",
+            s[3].position
+        );
         let lost = State {
             velocity: Vector3::new(f64::NAN, 0.0, 0.0),
             ..start
