@@ -53,18 +53,29 @@ def main():
         sys.exit(__doc__)
     set_dir, rec_dir = sys.argv[1], sys.argv[2]
     true_rates, errors = [], []
-    for path in sorted(glob.glob(os.path.join(rec_dir, "*.csv"))):
-        truth = load(os.path.join(set_dir, "truth", os.path.basename(path)))
-        rec = load(path)
-        n = min(len(truth), len(rec))
-        a, seen = rates(truth[:n]), rates(rec[:n])
+    paths = sorted(glob.glob(os.path.join(rec_dir, "*.csv")))
+    if not paths:
+        sys.exit(f"rate_error: no <take>.csv in {rec_dir}")
+    for path in paths:
+        truth_path = os.path.join(set_dir, "truth", os.path.basename(path))
+        if not os.path.exists(truth_path):
+            sys.exit(f"rate_error: no truth for {path}: {truth_path} is missing")
+        truth, rec = load(truth_path), load(path)
+        # The truth's state at each reconstructed epoch's time (a take may
+        # have fewer epochs than the truth has frames), so that both rates
+        # difference the same epochs.
+        # (`omniad reconstruct` writes t to the microsecond: nearest.)
+        at = np.abs(truth[:, 0][:, None] - rec[:, 0][None, :]).argmin(axis=0)
+        if len(rec) < 3 or np.abs(truth[at, 0] - rec[:, 0]).max() > 1e-5:
+            sys.exit(f"rate_error: {path}: its times are not the truth's ({truth_path})")
+        a, seen = rates(truth[at]), rates(rec)
         ok = np.all(np.isfinite(seen), axis=1)
         true_rates.append(a[ok])
         errors.append(seen[ok] - a[ok])
     a, e = np.vstack(true_rates), np.vstack(errors)
-    # The error has a heavy tail (a few frames next to a pose-branch
-    # switch), so its robust spread (1.4826 x the median absolute
-    # deviation) is printed beside the standard deviation.
+    # The error has a heavy tail (a few frames far beyond the rest), so
+    # its robust spread (1.4826 x the median absolute deviation) is
+    # printed beside the standard deviation.
     mad = 1.4826 * np.median(np.abs(e - np.median(e, axis=0)), axis=0)
     for i, axis in enumerate("xyz"):
         print(
