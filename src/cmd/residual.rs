@@ -129,7 +129,7 @@ fn print_text(r: &Report) {
     );
     if let Some(s) = &r.resimulation {
         println!(
-            "re-simulation, first 0.5 s of each take: {:.4} m base, {:.4} m extended",
+            "re-simulation, first 0.5 s of each take held out (models fitted without it): {:.4} m base, {:.4} m extended",
             s.base_m, s.extended_m
         );
         for t in &s.takes {

@@ -65,16 +65,40 @@ pub(crate) fn extend(
     p: &Problems,
     base: &Coefficients<f64>,
     design: &[Candidate],
+    consts: (f64, f64, f64),
+) -> Result<Extended> {
+    fitted(p, base, design, consts, None)
+}
+
+/// [`extend`] with take `take` (its index in the set) left out of every
+/// solve, the torque's (beta, D) refitted whatever the design: the model
+/// a held-out take is re-simulated with (`resimulate`). A take without
+/// frames in a problem was never in it.
+pub(crate) fn extend_without(
+    p: &Problems,
+    base: &Coefficients<f64>,
+    design: &[Candidate],
+    consts: (f64, f64, f64),
+    take: usize,
+) -> Result<Extended> {
+    fitted(p, base, design, consts, Some(take))
+}
+
+/// [`extend`] without take `skip` (set index; `None`: on all takes).
+fn fitted(
+    p: &Problems,
+    base: &Coefficients<f64>,
+    design: &[Candidate],
     (damping_floor, rho, l): (f64, f64, f64),
+    skip: Option<usize>,
 ) -> Result<Extended> {
     let cols = design_columns(p, design);
-    let force = p.force.solve(&cols, None, None).x;
+    let index = |ids: &[usize]| skip.and_then(|t| ids.iter().position(|&i| i == t));
+    let force = p.force.solve(&cols, None, index(&p.force.take_ids)).x;
     let b = p.force.base;
     let u: Vec<f64> = (b..force.len()).map(|i| force[i]).collect();
-    let torque = design
-        .iter()
-        .any(|c| c.has_torque())
-        .then(|| p.torque.solve(&cols, Some(&u), None).x);
+    let torque = (skip.is_some() || design.iter().any(|c| c.has_torque()))
+        .then(|| p.torque.solve(&cols, Some(&u), index(&p.torque.take_ids)).x);
     // A held baseline (`--coeffs`, [`super::fixed`]) keeps its
     // coefficients; each effect's fit is an increment on what it stores.
     let held = b == 0;
@@ -157,5 +181,84 @@ fn store(m: &mut Coefficients<f64>, c: Candidate, v: &[f64]) -> Result<()> {
             };
             m.set_gravity_coupling(Some(g)).map_err(model_error)
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::fit::joint::{Joint, JointFrame};
+    use crate::fit::smoothing::Smoothing;
+    use nalgebra::DMatrix;
+
+    /// Three takes (set indices 4, 1, 7, in that order in the problems)
+    /// of a degree-0 model whose force on x is the take's index: the
+    /// model fitted without a take averages the other two, whatever the
+    /// take's place in the problems; a take with no frames leaves all
+    /// three. Beta and D are refitted (here to zero, the torque's target).
+    #[test]
+    fn a_take_is_left_out_by_its_set_index() {
+        let width: usize = crate::residual::candidates::ALL
+            .iter()
+            .map(|c| c.width())
+            .sum();
+        let smoothing = Smoothing {
+            weight: 0.0,
+            order: 2,
+        };
+        let (mut force, mut torque) = (Vec::new(), Vec::new());
+        for take in [4, 1, 7] {
+            for k in 0..10 {
+                let x = k as f64 * 0.3;
+                force.push(JointFrame {
+                    take,
+                    base: DMatrix::identity(3, 3),
+                    extra: DMatrix::zeros(3, width),
+                    weight: Matrix3::identity(),
+                    target: Vector3::new(take as f64, 0.0, 0.0),
+                });
+                let base = DMatrix::from_fn(3, 9, |i, j| match j {
+                    0..=2 => f64::from(u8::from(i == j)),
+                    _ => (x + (i * 9 + j) as f64).sin(),
+                });
+                torque.push(JointFrame {
+                    take,
+                    base,
+                    extra: DMatrix::zeros(3, width),
+                    weight: Matrix3::identity(),
+                    target: Vector3::zeros(),
+                });
+            }
+        }
+        let mut offsets = Vec::new();
+        let mut at = 0;
+        for c in crate::residual::candidates::ALL {
+            offsets.push(at);
+            at += c.width();
+        }
+        let p = Problems {
+            force: Joint::new(force, 0, smoothing),
+            torque: Joint::new(torque, 0, smoothing),
+            offsets,
+            force_samples: Vec::new(),
+        };
+        let base = Coefficients::zeros(0, Vector3::z(), 0.3).expect("model");
+        let consts = (0.0, 1.2, 0.3);
+        let alpha_x = |take| {
+            let m = extend_without(&p, &base, &[], consts, take)
+                .expect("model")
+                .model;
+            m.alpha(0, 0).expect("alpha")
+        };
+        assert!((alpha_x(4) - 4.0).abs() < 1e-6, "{}", alpha_x(4));
+        assert!((alpha_x(1) - 5.5).abs() < 1e-6, "{}", alpha_x(1));
+        assert!((alpha_x(7) - 2.5).abs() < 1e-6, "{}", alpha_x(7));
+        assert!((alpha_x(3) - 4.0).abs() < 1e-6, "{}", alpha_x(3));
+        let all = extend(&p, &base, &[], consts).expect("model").model;
+        assert!((all.alpha(0, 0).expect("alpha") - 4.0).abs() < 1e-6);
+        let m = extend_without(&p, &base, &[], consts, 1)
+            .expect("model")
+            .model;
+        assert!(m.damping().norm() < 1e-9, "{}", m.damping());
     }
 }

@@ -10,8 +10,9 @@
 //! 3. Greedy forward selection with a gain threshold, a sign test across
 //!    held-out takes, plausibility and parsimony ([`select`]); clean air
 //!    gets nothing.
-//! 4. The extended model ([`extend`]) is re-simulated against the
-//!    reconstruction ([`resimulate`]); the residual is diagnosed
+//! 4. The base and the extended model ([`extend`]) are re-simulated
+//!    against the reconstruction, each take with the models fitted without
+//!    it ([`resimulate`]); the residual is diagnosed
 //!    ([`diagnose`]) and described in words ([`words`]).
 //!
 //! 5. A wind or a named effect found changes the states themselves (the
@@ -126,7 +127,8 @@ pub struct Report {
     pub selected_params: Vec<Vec<f64>>,
     /// The extended model's held-out errors.
     pub after: HeldOut,
-    /// Re-simulation of the takes.
+    /// Re-simulation of the takes, each held out (the base and the
+    /// extended model fitted without it).
     pub resimulation: Option<Resimulation>,
     /// The reconstructed force's noise as the markers alone predict it, N:
     /// `sqrt(mean tr Σ_F)` over the force frames, `Σ_F` the markers-only
@@ -168,6 +170,26 @@ pub struct Analysis {
     pub extended: Coefficients<f64>,
 }
 
+/// For each take of `set`, `design` fitted on `round`'s problems without
+/// it (`extend::extend_without`, over the round's bare model or the given
+/// one): the models its held-out re-simulation flies. `None` where the
+/// model cannot be built.
+fn held_out_models(
+    set: &RecordingSet,
+    round: &refit::Round,
+    design: &[candidates::Candidate],
+    given: Option<&Coefficients<f64>>,
+    consts: (f64, f64, f64),
+) -> Vec<Option<Coefficients<f64>>> {
+    let model = given
+        .cloned()
+        .unwrap_or_else(|| refit::bare(&round.outcome.model));
+    (0..set.takes.len())
+        .map(|t| extend::extend_without(&round.p, &model, design, consts, t).ok())
+        .map(|e| e.map(|e| e.model))
+        .collect()
+}
+
 /// Runs the analysis of the set in `dir`: the first round on states
 /// reconstructed without any effect, then the refits around the wind and
 /// the named effects it finds ([`refit`]). `baseline` is the first round's base
@@ -188,16 +210,23 @@ pub fn analyse(
     let last = rounds.last.as_ref().unwrap_or(first);
     let (selected, params) = refit::selection(&rounds, last);
     let diagnosis = diagnose::diagnose(&first.p, &first.sel.baseline.residuals);
+    let consts = (
+        cfg.lsq.damping_floor,
+        set.world.air_density,
+        set.object.reference_length,
+    );
+    let base_models = held_out_models(set, first, &[], given, consts);
+    let extended_models = held_out_models(set, last, &last.sel.selected, given, consts);
     let resimulation = resimulate::compare(
         set,
         &resimulate::Run {
             reconstruction: &first.outcome.reconstruction,
-            model: &first.outcome.model,
+            models: &base_models,
             wind: Vector3::zeros(),
         },
         &resimulate::Run {
             reconstruction: &last.outcome.reconstruction,
-            model: &last.ext.model,
+            models: &extended_models,
             wind: rounds.wind.unwrap_or_else(Vector3::zeros),
         },
     );

@@ -39,7 +39,7 @@
 use crate::input::recording::{RecordingSet, Take};
 use crate::input::tracks::{Epoch, MarkerSighting, Observation};
 use crate::reconstruct::filter::Smoothed;
-use crate::residual::resimulate::states_at;
+use crate::residual::resimulate::{states_at, HORIZON};
 use crate::rng::Rng;
 use nalgebra::{Vector2, Vector3};
 use omniad_core::rigid_body::AirForces;
@@ -65,8 +65,9 @@ pub(crate) fn bound(g: &[f64]) -> f64 {
 /// The replica's noise seed: fixed, so an analysis is reproducible.
 const SEED: u64 = 0x6e75_6c6c;
 
-/// The recording `set` re-simulated with `model` from the first linked
-/// states of `rec` ([`Smoothed::first_linked`]; one per take; an empty one,
+/// The recording `set` re-simulated with `model` from the states of `rec`
+/// a re-simulation starts from ([`Smoothed::first_linked_over`] the
+/// horizon; one per take; an empty one,
 /// a take left out, is left out of the replica too); `None` when the body
 /// is not valid.
 pub(crate) fn replica(
@@ -91,7 +92,7 @@ pub(crate) fn replica(
         .iter()
         .zip(rec)
         .filter_map(|(take, r)| {
-            let k0 = r.first_linked()?;
+            let k0 = r.first_linked_over(HORIZON)?;
             let start = (*r.times.get(k0)?, *r.states.get(k0)?);
             let times = take.epochs.iter().map(|e| e.t);
             let states: Vec<_> = states_at(&body, &env, &forces, start, times).collect();

@@ -176,7 +176,7 @@ fn problems_of(
 }
 
 /// A fitted model without its effects.
-fn bare(model: &Coefficients<f64>) -> Coefficients<f64> {
+pub(crate) fn bare(model: &Coefficients<f64>) -> Coefficients<f64> {
     let mut m = model.clone();
     EffectKind::ALL.iter().for_each(|k| m.remove_effect(*k));
     m

@@ -1,8 +1,8 @@
-//! Re-simulation of the recorded takes from their first reconstructed
-//! state with a model (core RK4 with the model's effects; added mass
-//! through the equations of motion), scored by the RMS position error
-//! against the reconstruction over the first [`HORIZON`] seconds: what an
-//! effect changes in a trajectory, in metres.
+//! Re-simulation of the recorded takes, each held out: from its first
+//! reconstructed state, with a model fitted without it (core RK4 with the
+//! model's effects; added mass through the equations of motion), scored
+//! by the RMS position error against the reconstruction over the first
+//! [`HORIZON`] seconds: what an effect changes in a trajectory, in metres.
 //!
 //! Each take is scored too: a plate that flips one way in the
 //! re-simulation and the other in the recording makes one take's error
@@ -44,12 +44,14 @@ pub struct TakeResimulation {
     pub extended_m: f64,
 }
 
-/// A model, the air it flies in and the reconstruction it is scored against.
+/// The models, the air they fly in and the reconstruction they are scored
+/// against.
 pub struct Run<'a> {
     /// The reconstruction, one per take of the set (empty: left out).
     pub reconstruction: &'a [Smoothed],
-    /// The model.
-    pub model: &'a Coefficients<f64>,
+    /// The model each take is re-simulated with, one per take of the set
+    /// (fitted without it; `None`: the take is not scored).
+    pub models: &'a [Option<Coefficients<f64>>],
     /// The air's velocity, world frame, m/s.
     pub wind: Vector3<f64>,
 }
@@ -94,8 +96,8 @@ fn rms(sums: &[Sums]) -> Option<f64> {
     (frames > 0).then(|| (squared / frames as f64).sqrt())
 }
 
-/// Each take's [`Sums`] of `run` (zero frames for a take left out);
-/// `None` when the body is not valid.
+/// Each take's [`Sums`] of `run` (zero frames for a take left out or
+/// without a model); `None` when the body is not valid.
 fn take_errors(set: &RecordingSet, run: &Run) -> Option<Vec<Sums>> {
     let body = RigidBody::new(set.object.mass, set.object.inertia).ok()?;
     let env = Environment {
@@ -103,21 +105,22 @@ fn take_errors(set: &RecordingSet, run: &Run) -> Option<Vec<Sums>> {
         air_density: set.world.air_density,
         wind: run.wind,
     };
-    let forces = AirForces {
-        model: run.model,
-        environment: env,
-    };
-    Some(
-        run.reconstruction
-            .iter()
-            .map(|r| take_error(&body, &env, &forces, r))
-            .collect(),
-    )
+    let sums = run.reconstruction.iter().enumerate().map(|(t, r)| {
+        let Some(Some(model)) = run.models.get(t) else {
+            return Sums::default();
+        };
+        let forces = AirForces {
+            model,
+            environment: env,
+        };
+        take_error(&body, &env, &forces, r)
+    });
+    Some(sums.collect())
 }
 
-/// One take re-simulated from its first linked state
-/// ([`Smoothed::first_linked`]); the frames after the state stops being
-/// finite are not counted.
+/// One take re-simulated from the first state linked over the horizon
+/// ([`Smoothed::first_linked_over`]), scored on that chain's frames; the
+/// frames after the state stops being finite are not counted.
 fn take_error(
     body: &RigidBody<f64>,
     env: &Environment<f64>,
@@ -125,14 +128,17 @@ fn take_error(
     r: &Smoothed,
 ) -> Sums {
     let mut sums = Sums::default();
-    let Some(k0) = r.first_linked() else {
+    let Some(k0) = r.first_linked_over(HORIZON) else {
         return sums;
     };
     let (Some(&t0), Some(&start)) = (r.times.get(k0), r.states.get(k0)) else {
         return sums;
     };
-    let recorded = r.times.iter().zip(&r.states).skip(k0 + 1);
-    let recorded: Vec<_> = recorded.take_while(|(t, _)| *t - t0 <= HORIZON).collect();
+    let recorded = r.times.iter().zip(&r.states).enumerate().skip(k0 + 1);
+    let recorded: Vec<_> = recorded
+        .take_while(|(k, (t, _))| *t - t0 <= HORIZON && r.linked(k0, *k))
+        .map(|(_, ts)| ts)
+        .collect();
     let times = recorded.iter().map(|(t, _)| **t);
     for (s, (_, truth)) in states_at(body, env, forces, (t0, start), times).zip(&recorded) {
         sums.squared += (s.position - truth.position).norm_squared();
@@ -189,24 +195,28 @@ mod tests {
 
     /// A fall whose epoch 0 is cut off (at rest, the filter's prior) is
     /// re-simulated from epoch 1, exactly; from epoch 0 it would trail the
-    /// recording by 3 m/s.
+    /// recording by 3 m/s. A fall whose epochs 0-1 are a chain of their
+    /// own (the branch the filter left) is re-simulated from epoch 2.
     #[test]
-    fn a_take_is_re_simulated_from_its_first_linked_state() {
-        let r = crate::reconstruct::forces::tests::fall(40, Some(1));
-        assert_eq!(r.first_linked(), Some(1));
+    fn a_take_is_re_simulated_from_a_chain_that_lasts() {
         let (body, env, model) = vacuum();
         let forces = AirForces {
             model: &model,
             environment: env,
         };
-        let e = rms(&[take_error(&body, &env, &forces, &r)]).unwrap();
-        // From the prior at rest the fall would be 3 m/s behind: ~0.75 m.
-        assert!(e < 1e-9, "RMS {e} m");
+        for cut in [1, 2] {
+            let r = crate::reconstruct::forces::tests::fall(40, Some(cut));
+            assert_eq!(r.first_linked_over(HORIZON), Some(cut));
+            let e = rms(&[take_error(&body, &env, &forces, &r)]).unwrap();
+            assert!(e < 1e-9, "cut at {cut}: RMS {e} m");
+        }
+        let r = crate::reconstruct::forces::tests::fall(40, Some(1));
         let linked = Smoothed {
             cuts: Vec::new(),
             ..r
         };
-        assert_eq!(linked.first_linked(), Some(0));
+        assert_eq!(linked.first_linked_over(HORIZON), Some(0));
+        // From the prior at rest the fall would be 3 m/s behind: ~0.75 m.
         let from_rest = rms(&[take_error(&body, &env, &forces, &linked)]).unwrap();
         assert!(from_rest > 0.3, "RMS {from_rest} m");
     }

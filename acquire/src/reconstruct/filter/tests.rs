@@ -79,3 +79,32 @@ fn mirror_pose_fits_the_markers_and_keeps_the_centroid_motion() {
     assert!(back.body.orientation.angle_to(&x.body.orientation) < 1e-9);
     assert!((back.body.angular_velocity - x.body.angular_velocity).norm() < 1e-9);
 }
+
+/// `epochs` at rest at 60 Hz, with the smoother's chains cut at `cuts`.
+fn chains(epochs: usize, cuts: &[usize]) -> Smoothed {
+    Smoothed {
+        times: (0..epochs).map(|k| k as f64 / 60.0).collect(),
+        states: vec![State::at_rest(Vector3::zeros()); epochs],
+        cuts: (0..epochs).map(|k| cuts.contains(&k)).collect(),
+        ..Smoothed::default()
+    }
+}
+
+/// The re-simulation starts on the first chain that lasts the span or
+/// reaches the last epoch, not on a short one the filter left (MuJoCo's
+/// box `spin-12`: epochs 0-1, then a cut); without such a chain, on the
+/// longest; never on a lone epoch.
+#[test]
+fn a_re_simulation_starts_on_a_chain_that_lasts() {
+    assert_eq!(chains(40, &[]).first_linked_over(0.5), Some(0));
+    assert_eq!(chains(40, &[1]).first_linked_over(0.5), Some(1));
+    assert_eq!(chains(40, &[2]).first_linked_over(0.5), Some(2));
+    // 0.5 s is 30 intervals: the chain 5..36 lasts, 36..40 reaches the end.
+    assert_eq!(chains(40, &[2, 5, 36]).first_linked_over(0.5), Some(5));
+    // 5..15 and 15..40 are both short of 1 s; the second reaches the end.
+    assert_eq!(chains(40, &[2, 5, 15]).first_linked_over(1.0), Some(15));
+    // No chain reaches the end (a lone last epoch) nor lasts 1 s: the longest.
+    assert_eq!(chains(40, &[10, 15, 39]).first_linked_over(1.0), Some(15));
+    assert_eq!(chains(3, &[1, 2]).first_linked_over(0.5), None);
+    assert_eq!(Smoothed::default().first_linked_over(0.5), None);
+}
