@@ -170,8 +170,12 @@ impl Smoothed {
     /// cut after `from` up to `to`): differences of their states are
     /// differences along one smoothed trajectory.
     pub fn linked(&self, from: usize, to: usize) -> bool {
-        to < self.states.len()
-            && !(from + 1..=to).any(|k| self.cuts.get(k).copied().unwrap_or(false))
+        to < self.states.len() && !(from + 1..=to).any(|k| self.cut_at(k))
+    }
+
+    /// Whether the smoother does not link epoch `k` to the one before it.
+    fn cut_at(&self, k: usize) -> bool {
+        self.cuts.get(k).copied().unwrap_or(false)
     }
 
     /// Where a re-simulation of the take can start and be scored: the
@@ -193,9 +197,7 @@ impl Smoothed {
         let mut longest: Option<(usize, usize)> = None;
         let mut start = 0;
         while start + 1 < n {
-            let end = (start + 1..n)
-                .find(|&k| self.cuts.get(k).copied().unwrap_or(false))
-                .unwrap_or(n);
+            let end = (start + 1..n).find(|&k| self.cut_at(k)).unwrap_or(n);
             let (first, last) = (self.times.get(start), self.times.get(end - 1));
             let spans = matches!((first, last), (Some(a), Some(b)) if b - a >= span);
             if end - start >= 2 && (spans || end == n) {

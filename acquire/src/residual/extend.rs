@@ -230,16 +230,10 @@ mod tests {
                 });
             }
         }
-        let mut offsets = Vec::new();
-        let mut at = 0;
-        for c in crate::residual::candidates::ALL {
-            offsets.push(at);
-            at += c.width();
-        }
         let p = Problems {
             force: Joint::new(force, 0, smoothing),
             torque: Joint::new(torque, 0, smoothing),
-            offsets,
+            offsets: crate::residual::problems::offsets(),
             force_samples: Vec::new(),
         };
         let base = Coefficients::zeros(0, Vector3::z(), 0.3).expect("model");

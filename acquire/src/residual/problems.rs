@@ -37,6 +37,18 @@ impl Problems {
     }
 }
 
+/// First column of each candidate of [`ALL`] in the problems' extra
+/// columns ([`Problems::offsets`]).
+pub(crate) fn offsets() -> Vec<usize> {
+    ALL.iter()
+        .scan(0, |at, c| {
+            let first = *at;
+            *at += c.width();
+            Some(first)
+        })
+        .collect()
+}
+
 /// The attitude of sample `s` in the reconstruction.
 fn attitude(s: &Sample, rec: &[Smoothed]) -> UnitQuaternion<f64> {
     rec.get(s.take)
@@ -121,16 +133,10 @@ pub(crate) fn build(
             target,
         });
     }
-    let mut offsets = Vec::new();
-    let mut at = 0;
-    for c in ALL {
-        offsets.push(at);
-        at += c.width();
-    }
     Problems {
         force: Joint::new(force_frames_out, degree, smoothing.force),
         torque: Joint::new(torque_frames, torque_degree, smoothing.torque),
-        offsets,
+        offsets: offsets(),
         force_samples,
     }
 }

@@ -557,12 +557,7 @@ mod tests {
     /// so holding the wind at its force fit spoils the held-out torque.
     fn problems() -> Problems {
         let width: usize = ALL.iter().map(|c| c.width()).sum();
-        let mut offsets = Vec::new();
-        let mut at = 0;
-        for c in ALL {
-            offsets.push(at);
-            at += c.width();
-        }
+        let offsets = crate::residual::problems::offsets();
         let col = |c: Candidate| offsets[ALL.iter().position(|a| *a == c).unwrap_or(0)];
         let (am, wind, spin) = (
             col(Candidate::Named(EffectKind::AddedMass)),
