@@ -118,6 +118,32 @@ fn residual_names_buoyancy_and_clean_air_gets_nothing() {
         "beyond C_F: linear drag {drag}, buoyancy {lift}"
     );
     assert!(plots.join("residual-vs-spin.svg").exists());
+    // The per-frame residuals behind the figures: both models, every
+    // analysed frame, and the base model's RMS is the report's.
+    let table = std::fs::read_to_string(plots.join("residual-frames.csv")).expect("frames csv");
+    let base: Vec<f64> = table
+        .lines()
+        .filter(|l| l.starts_with("base,"))
+        .map(|l| {
+            let r: Vec<f64> = l
+                .split(',')
+                .skip(15)
+                .map(|v| v.parse().expect("number"))
+                .collect();
+            r.iter().map(|v| v * v).sum::<f64>()
+        })
+        .collect();
+    let rms = (base.iter().sum::<f64>() / base.len().max(1) as f64).sqrt();
+    assert!(
+        (rms - before).abs() < 1e-6 * before.max(1e-12) + 1e-9,
+        "residual-frames.csv base RMS {rms}, report {before}"
+    );
+    let extended = table.lines().filter(|l| l.starts_with("extended,")).count();
+    assert_eq!(
+        extended as u64,
+        r["frames"].as_u64().expect("frames"),
+        "{table:.300}"
+    );
     let info = omniad(&["info", model.to_str().expect("utf-8")]);
     assert!(info.contains("buoyancy"), "{info}");
 

@@ -18,7 +18,9 @@ pub struct ResidualArgs {
     /// selected named effects stored) here.
     #[arg(short = 'o', long = "output")]
     pub output: Option<PathBuf>,
-    /// Write SVG figures of the residual into this folder (created).
+    /// Write SVG figures of the residual into this folder (created), and
+    /// the per-frame held-out force residuals they are drawn from,
+    /// `residual-frames.csv` (body frame; the base and the extended model).
     #[arg(long)]
     pub plots: Option<PathBuf>,
     /// Print the report as JSON.
@@ -57,8 +59,13 @@ pub fn run(a: &ResidualArgs) -> Result<()> {
         super::common::write_coefficients(out, &analysis.extended)?;
     }
     if let Some(dir) = &a.plots {
-        let figures = omniad_acquire::residual::plots::figures(&analysis.report);
-        omniad_io::write_files_atomic(dir, figures)
+        let mut files = omniad_acquire::residual::plots::figures(&analysis.report);
+        let takes: Vec<String> = set.takes.iter().map(|t| t.name.clone()).collect();
+        files.push((
+            "residual-frames.csv".into(),
+            omniad_acquire::residual::frames::csv(&analysis.frames, &takes),
+        ));
+        omniad_io::write_files_atomic(dir, files)
             .map_err(|e| anyhow::anyhow!("cannot write the plots: {e}"))?;
     }
     if a.json {

@@ -24,6 +24,7 @@ pub mod candidates;
 pub mod diagnose;
 pub mod extend;
 pub mod fixed;
+pub mod frames;
 pub mod identify;
 pub(crate) mod null;
 pub mod plots;
@@ -168,6 +169,10 @@ pub struct Analysis {
     pub base: Coefficients<f64>,
     /// The extended model.
     pub extended: Coefficients<f64>,
+    /// Per frame, the base model's held-out force residual (first round)
+    /// and the extended model's (last round), body frame
+    /// ([`frames`]).
+    pub frames: Vec<frames::FrameResidual>,
 }
 
 /// For each take of `set`, `design` fitted on `round`'s problems without
@@ -285,10 +290,19 @@ pub fn analyse(
     };
     report.words = words::describe(&report, &params);
     report.words.extend(refit::describe(&report.refit));
+    let fit = crate::fit::context::FitContext::of_set(set);
+    let mut table = frames::rows("base", &first.p, &first.sel.baseline.residuals, &fit);
+    table.extend(frames::rows(
+        "extended",
+        &last.p,
+        &last.sel.after.residuals,
+        &fit,
+    ));
     Ok(Analysis {
         report,
         base: first.outcome.model.clone(),
         extended: last.ext.model.clone(),
+        frames: table,
     })
 }
 
