@@ -9,29 +9,21 @@
 //! body-frame residual is `B r` with the same length.
 
 use crate::fit::context::FitContext;
+use crate::reconstruct::forces::Sample;
 use crate::residual::problems::Problems;
 use nalgebra::Vector3;
 use omniad_core::basis::vector_basis;
 use std::fmt::Write as _;
 
 /// One frame's held-out residual under one model.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct FrameResidual {
     /// `base` (the first round's base model, each take held out) or
     /// `extended` (the last round's model with the selected effects).
     pub model: &'static str,
-    /// Take index in the set.
-    pub take: usize,
-    /// Time in the take, s.
-    pub t: f64,
-    /// Velocity relative to the air, body frame, m/s.
-    pub velocity: Vector3<f64>,
-    /// Angular velocity Ω, body frame, rad/s.
-    pub angular_velocity: Vector3<f64>,
-    /// `dV/dt`, body frame, m/s².
-    pub velocity_rate: Vector3<f64>,
-    /// Measured aerodynamic force F* (eq. 9), body frame, N.
-    pub force: Vector3<f64>,
+    /// The frame: its take, time, body-frame V, Ω, dV/dt and measured
+    /// force F* (eq. 9).
+    pub sample: Sample,
     /// Measured minus held-out model force, body frame, N.
     pub residual: Vector3<f64>,
 }
@@ -53,12 +45,7 @@ pub(crate) fn rows(
             let b = vector_basis(&e, &fit.pole);
             Some(FrameResidual {
                 model,
-                take: s.take,
-                t: s.t,
-                velocity: s.velocity,
-                angular_velocity: s.angular_velocity,
-                velocity_rate: s.velocity_rate,
-                force: s.force,
+                sample: *s,
                 residual: b[0] * r.x + b[1] * r.y + b[2] * r.z,
             })
         })
@@ -70,13 +57,14 @@ pub fn csv(rows: &[FrameResidual], takes: &[String]) -> String {
     let mut out =
         String::from("model,take,t,vx,vy,vz,wx,wy,wz,dvx_dt,dvy_dt,dvz_dt,fx,fy,fz,rx,ry,rz\n");
     for r in rows {
-        let name = takes.get(r.take).map_or("?", String::as_str);
-        let _ = write!(out, "{},{},{:.6}", r.model, name, r.t);
+        let s = &r.sample;
+        let name = takes.get(s.take).map_or("?", String::as_str);
+        let _ = write!(out, "{},{},{:.6}", r.model, name, s.t);
         for v in [
-            &r.velocity,
-            &r.angular_velocity,
-            &r.velocity_rate,
-            &r.force,
+            &s.velocity,
+            &s.angular_velocity,
+            &s.velocity_rate,
+            &s.force,
             &r.residual,
         ] {
             let _ = write!(out, ",{:.9e},{:.9e},{:.9e}", v.x, v.y, v.z);
@@ -92,7 +80,6 @@ mod tests {
     use crate::fit::force::force_row;
     use crate::fit::joint::Joint;
     use crate::fit::smoothing::Smoothing;
-    use crate::reconstruct::forces::Sample;
     use nalgebra::Matrix3;
 
     /// A residual equal to the whole target (a model that predicts no
