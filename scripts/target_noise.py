@@ -45,10 +45,15 @@ def recording_constants(set_dir):
 
 
 def true_force(truth, t, mass, gravity):
-    """Eq. 9 on the truth's states at the epoch nearest t (central
-    difference), body frame, N; None at a take's first or last epoch."""
+    """Eq. 9 on the truth's states at the epoch at time t (central
+    difference), body frame, N; None at a take's first or last epoch
+    (no central difference there). Raises ValueError when the truth has
+    no epoch at t (a table of another set)."""
     k = int(np.abs(truth[:, 0] - t).argmin())
-    if k == 0 or k == len(truth) - 1 or abs(truth[k, 0] - t) > 1e-5:
+    # `omniad residual` writes t to the microsecond.
+    if abs(truth[k, 0] - t) > 1e-5:
+        raise ValueError(f"no truth epoch at t = {t} s (nearest {truth[k, 0]} s)")
+    if k == 0 or k == len(truth) - 1:
         return None
     rate = (truth[k + 1, 8:11] - truth[k - 1, 8:11]) / (truth[k + 1, 0] - truth[k - 1, 0])
     return mass * rotation(truth[k, 4:8]).T @ (rate - gravity)
@@ -59,21 +64,36 @@ def main():
         sys.exit(__doc__)
     set_dir, table = sys.argv[1], sys.argv[2]
     mass, gravity = recording_constants(set_dir)
-    truths, split = {}, {}
+    truths, split, ends = {}, {}, 0
+    columns = {"model", "take", "t", "fx", "fy", "fz", "rx", "ry", "rz"}
     with open(table) as f:
-        for row in csv.DictReader(f):
+        reader = csv.DictReader(f)
+        missing = columns - set(reader.fieldnames or [])
+        if missing:
+            sys.exit(f"target_noise: {table} lacks the columns {sorted(missing)} "
+                     "(it should be omniad residual's residual-frames.csv)")
+        for line, row in enumerate(reader, start=2):
             take = row["take"]
             if take not in truths:
                 path = os.path.join(set_dir, "truth", take + ".csv")
                 if not os.path.exists(path):
                     sys.exit(f"target_noise: no truth for take {take}: {path} is missing")
                 truths[take] = load(path)
-            f_true = true_force(truths[take], float(row["t"]), mass, gravity)
+            try:
+                f_true = true_force(truths[take], float(row["t"]), mass, gravity)
+            except ValueError as e:
+                sys.exit(f"target_noise: {table} line {line}, take {take}: {e}; "
+                         f"is the table of {set_dir}?")
             if f_true is None:
+                ends += 1
                 continue
             measured = np.array([float(row[c]) for c in ("fx", "fy", "fz")])
             residual = np.array([float(row[c]) for c in ("rx", "ry", "rz")])
             split.setdefault(row["model"], []).append((measured - f_true, residual))
+    if not split:
+        sys.exit(f"target_noise: {table} has no frame inside a take")
+    if ends:
+        print(f"({ends} rows at a take's first or last epoch left out: no central difference there)")
     rms = {}
     for model, pairs in split.items():
         noise = np.array([p[0] for p in pairs])
