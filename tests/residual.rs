@@ -121,22 +121,18 @@ fn residual_names_buoyancy_and_clean_air_gets_nothing() {
     // The per-frame residuals behind the figures: both models, every
     // analysed frame, and the base model's RMS is the report's.
     let table = std::fs::read_to_string(plots.join("residual-frames.csv")).expect("frames csv");
-    let base: Vec<f64> = table
-        .lines()
-        .filter(|l| l.starts_with("base,"))
-        .map(|l| {
-            let r: Vec<f64> = l
-                .split(',')
-                .skip(15)
-                .map(|v| v.parse().expect("number"))
-                .collect();
-            r.iter().map(|v| v * v).sum::<f64>()
-        })
-        .collect();
-    let rms = (base.iter().sum::<f64>() / base.len().max(1) as f64).sqrt();
+    let rms = rms_of(&table, "base,");
     assert!(
         (rms - before).abs() < 1e-6 * before.max(1e-12) + 1e-9,
         "residual-frames.csv base RMS {rms}, report {before}"
+    );
+    let first = rms_of(&table, "first_round,");
+    let first_report = r["first_round_baseline"]["heldout_force_rms"]
+        .as_f64()
+        .expect("first round");
+    assert!(
+        (first - first_report).abs() < 1e-6 * first_report + 1e-9,
+        "residual-frames.csv first-round RMS {first}, report {first_report}"
     );
     let extended = table.lines().filter(|l| l.starts_with("extended,")).count();
     assert_eq!(
@@ -144,6 +140,19 @@ fn residual_names_buoyancy_and_clean_air_gets_nothing() {
         r["frames"].as_u64().expect("frames"),
         "{table:.300}"
     );
+    // Before and after are scored on the same frames: row for row, the
+    // same takes, times and measured forces.
+    let frame_keys = |prefix: &str| -> Vec<String> {
+        table
+            .lines()
+            .filter_map(|l| l.strip_prefix(prefix))
+            .map(|l| {
+                let f: Vec<&str> = l.split(',').collect();
+                [&f[..2], &f[11..14]].concat().join(",")
+            })
+            .collect()
+    };
+    assert_eq!(frame_keys("base,"), frame_keys("extended,"));
     let info = omniad(&["info", model.to_str().expect("utf-8")]);
     assert!(info.contains("buoyancy"), "{info}");
 
@@ -166,9 +175,27 @@ fn omniad_fails(args: &[&str]) -> String {
     String::from_utf8_lossy(&out.stderr).into_owned()
 }
 
+/// RMS of the residual columns (the last three) of the rows of a
+/// residual-frames.csv `table` that start with `prefix`.
+fn rms_of(table: &str, prefix: &str) -> f64 {
+    let squares: Vec<f64> = table
+        .lines()
+        .filter(|l| l.starts_with(prefix))
+        .map(|l| {
+            let r: Vec<f64> = l
+                .split(',')
+                .skip(15)
+                .map(|v| v.parse().expect("number"))
+                .collect();
+            r.iter().map(|v| v * v).sum::<f64>()
+        })
+        .collect();
+    (squares.iter().sum::<f64>() / squares.len().max(1) as f64).sqrt()
+}
+
 /// Item 7's keys, all present.
 fn assert_item7_keys(r: &serde_json::Value) {
-    for side in ["baseline", "after"] {
+    for side in ["baseline", "first_round_baseline", "after"] {
         for k in ["heldout_force_rms", "heldout_torque_rms"] {
             assert!(r[side][k].as_f64().is_some(), "{side}.{k} missing: {r:#}");
         }

@@ -235,6 +235,9 @@ mod tests {
             torque: Joint::new(torque, 0, smoothing),
             offsets: crate::residual::problems::offsets(),
             force_samples: Vec::new(),
+            force_bases: Vec::new(),
+            mass: 1.0,
+            held_added_mass: Matrix3::zeros(),
         };
         let base = Coefficients::zeros(0, Vector3::z(), 0.3).expect("model");
         let consts = (0.0, 1.2, 0.3);

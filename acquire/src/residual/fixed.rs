@@ -12,7 +12,8 @@ use crate::error::{Error, Result};
 use crate::input::recording::RecordingSet;
 use crate::residual::candidates::{Candidate, ALL};
 use crate::residual::problems::Problems;
-use nalgebra::DVector;
+use nalgebra::{DVector, Matrix3};
+use omniad_core::effect::EffectKind;
 use omniad_core::Coefficients;
 
 /// Checks that `model` can be the baseline of `set`: the same pole and
@@ -88,10 +89,14 @@ pub(crate) fn hold(p: Problems, model: &Coefficients<f64>) -> Result<Problems> {
             held.extend(p.columns_of(c).zip(v));
         }
     }
+    let held_added_mass = model
+        .effect(EffectKind::AddedMass)
+        .and_then(|e| e.added_mass())
+        .unwrap_or_else(Matrix3::zeros);
     Ok(Problems {
         force: p.force.with_fixed_base(&a, &held),
         torque: p.torque.with_fixed_base(&b, &held),
-        offsets: p.offsets,
-        force_samples: p.force_samples,
+        held_added_mass,
+        ..p
     })
 }

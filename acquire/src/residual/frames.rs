@@ -10,7 +10,6 @@
 
 use crate::fit::context::FitContext;
 use crate::reconstruct::forces::Sample;
-use crate::residual::problems::Problems;
 use nalgebra::Vector3;
 use omniad_core::basis::vector_basis;
 use std::fmt::Write as _;
@@ -18,26 +17,31 @@ use std::fmt::Write as _;
 /// One frame's held-out residual under one model.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct FrameResidual {
-    /// `base` (the first round's base model, each take held out) or
-    /// `extended` (the last round's model with the selected effects).
+    /// `base` (the base model on the frames `extended` is scored on: the
+    /// report's `baseline`), `extended` (the last round's model with the
+    /// selected effects) or `first_round` (the base model on the first
+    /// round's states: the report's `first_round_baseline`); each take
+    /// held out.
     pub model: &'static str,
     /// The frame: its take, time, body-frame V, Ω, dV/dt and measured
     /// force F* (eq. 9).
     pub sample: Sample,
-    /// Measured minus held-out model force, body frame, N.
+    /// Measured minus held-out model force, body frame, N (for a model
+    /// with added mass, `M` times the measured minus the predicted rate:
+    /// `super::output_error`).
     pub residual: Vector3<f64>,
 }
 
-/// The rows of `residuals` (one per force frame of `p`, in the fit's
-/// basis, as `select::Scored::residuals`) in the body frame, labelled
-/// `model`.
+/// The rows of `residuals` (one per force frame in `frames`, in the
+/// fit's basis, as `select::Scored::residuals`) in the body frame,
+/// labelled `model`.
 pub(crate) fn rows(
     model: &'static str,
-    p: &Problems,
+    frames: &[Sample],
     residuals: &[Vector3<f64>],
     fit: &FitContext,
 ) -> Vec<FrameResidual> {
-    p.force_samples
+    frames
         .iter()
         .zip(residuals)
         .filter_map(|(s, r)| {
@@ -78,8 +82,6 @@ pub fn csv(rows: &[FrameResidual], takes: &[String]) -> String {
 mod tests {
     use super::*;
     use crate::fit::force::force_row;
-    use crate::fit::joint::Joint;
-    use crate::fit::smoothing::Smoothing;
     use nalgebra::Matrix3;
 
     /// A residual equal to the whole target (a model that predicts no
@@ -107,18 +109,8 @@ mod tests {
             use_force: true,
             use_torque: true,
         };
-        let none = Smoothing {
-            weight: 0.0,
-            order: 2,
-        };
         let row = force_row(&s, &Matrix3::identity(), &fit, 2);
-        let p = Problems {
-            force: Joint::new(Vec::new(), 2, none),
-            torque: Joint::new(Vec::new(), 2, none),
-            offsets: crate::residual::problems::offsets(),
-            force_samples: vec![s],
-        };
-        let out = rows("base", &p, &[row.target], &fit);
+        let out = rows("base", &[s], &[row.target], &fit);
         let r = out.first().map(|f| f.residual).unwrap_or_default();
         assert!((r - s.force).norm() < 1e-12, "{r:?} vs {:?}", s.force);
         let text = csv(&out, &["drop-01".into()]);

@@ -27,6 +27,7 @@ pub mod fixed;
 pub mod frames;
 pub mod identify;
 pub(crate) mod null;
+pub(crate) mod output_error;
 pub mod plots;
 pub(crate) mod problems;
 pub mod refit;
@@ -45,7 +46,7 @@ use serde::Serialize;
 use std::path::Path;
 
 /// Held-out RMS errors.
-#[derive(Clone, Copy, Debug, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct HeldOut {
     /// Force, N.
     pub heldout_force_rms: f64,
@@ -112,8 +113,15 @@ pub struct TruthError {
 #[derive(Clone, Debug, Serialize)]
 pub struct Report {
     /// The base model's held-out errors (a given model, `--coeffs`: its
-    /// residual on every take, nothing of it being fitted).
+    /// residual on every take, nothing of it being fitted), on the frames
+    /// `after` is scored on: the last round's states, back in still air
+    /// when they hold a wind ([`refit::base_on`]).
     pub baseline: HeldOut,
+    /// The base model's held-out errors on the first round's states
+    /// (reconstructed without any effect): the residual the diagnosis,
+    /// the figures and the candidates' first step read. The same as
+    /// `baseline` when no refit round was kept.
+    pub first_round_baseline: HeldOut,
     /// Where the base model comes from: `fitted` (leave-one-take-out) or
     /// `given` (`--coeffs`, held fixed; candidates' `params` are then
     /// increments on what it stores).
@@ -220,6 +228,11 @@ pub fn analyse(
         set.world.air_density,
         set.object.reference_length,
     );
+    let same_states = refit::base_on(set, last, given);
+    let (base_frames, base) = match &same_states {
+        Some((frames, scored)) => (frames.as_slice(), scored),
+        None => (first.p.force_samples.as_slice(), &first.sel.baseline),
+    };
     let base_models = held_out_models(set, first, &[], given, consts);
     let extended_models = held_out_models(set, last, &last.sel.selected, given, consts);
     let resimulation = resimulate::compare(
@@ -265,6 +278,10 @@ pub fn analyse(
         .collect();
     let mut report = Report {
         baseline: HeldOut {
+            heldout_force_rms: base.force_rms,
+            heldout_torque_rms: base.torque_rms,
+        },
+        first_round_baseline: HeldOut {
             heldout_force_rms: first.sel.baseline.force_rms,
             heldout_torque_rms: first.sel.baseline.torque_rms,
         },
@@ -291,10 +308,16 @@ pub fn analyse(
     report.words = words::describe(&report, &params);
     report.words.extend(refit::describe(&report.refit));
     let fit = crate::fit::context::FitContext::of_set(set);
-    let mut table = frames::rows("base", &first.p, &first.sel.baseline.residuals, &fit);
+    let mut table = frames::rows("base", base_frames, &base.residuals, &fit);
+    table.extend(frames::rows(
+        "first_round",
+        &first.p.force_samples,
+        &first.sel.baseline.residuals,
+        &fit,
+    ));
     table.extend(frames::rows(
         "extended",
-        &last.p,
+        &last.p.force_samples,
         &last.sel.after.residuals,
         &fit,
     ));

@@ -26,6 +26,14 @@ pub(crate) struct Problems {
     pub offsets: Vec<usize>,
     /// The force frames' body-frame samples, in `force.frames` order.
     pub force_samples: Vec<Sample>,
+    /// The force frames' bases (the fit's `B`, eq. 7: basis vectors as
+    /// columns, body frame), in `force.frames` order.
+    pub force_bases: Vec<Matrix3<f64>>,
+    /// The object's mass, kg ([`super::output_error`]).
+    pub mass: f64,
+    /// Added mass already in the targets (a given model's, held by
+    /// [`super::fixed::hold`]), kg, body frame; zero otherwise.
+    pub held_added_mass: Matrix3<f64>,
 }
 
 impl Problems {
@@ -77,8 +85,9 @@ fn all_columns(
 
 /// Builds the problems from the base fit's frames, reconstruction and
 /// smoothing, the force at SH degree `degrees.0` and the torque at its own
-/// `degrees.1` (a model's N and N_T).
+/// `degrees.1` (a model's N and N_T), for an object of mass `mass` (kg).
 pub(crate) fn build(
+    mass: f64,
     samples: &[Sample],
     rec: &[Smoothed],
     fit: &FitContext,
@@ -92,6 +101,7 @@ pub(crate) fn build(
     let weights = force_weights(&frames);
     let mut force_frames_out = Vec::with_capacity(frames.len());
     let mut force_samples = Vec::with_capacity(frames.len());
+    let mut force_bases = Vec::with_capacity(frames.len());
     for (s, w) in frames.iter().zip(&weights) {
         let (cf, _) = all_columns(s, rec, cols);
         if cf.iter().any(|v| !v.is_finite()) {
@@ -115,6 +125,7 @@ pub(crate) fn build(
             target,
         });
         force_samples.push(**s);
+        force_bases.push(basis);
     }
     let mut torque_frames = Vec::new();
     for s in samples.iter().filter(|s| s.use_torque) {
@@ -138,5 +149,8 @@ pub(crate) fn build(
         torque: Joint::new(torque_frames, torque_degree, smoothing.torque),
         offsets: offsets(),
         force_samples,
+        force_bases,
+        mass,
+        held_added_mass: Matrix3::zeros(),
     }
 }

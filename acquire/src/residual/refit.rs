@@ -51,6 +51,7 @@
 //! Generic blocks (spin, gravity coupling) stay out of the process model:
 //! they are the last resort, not physics to predict with.
 
+mod base_states;
 mod markers;
 mod proposal;
 mod report;
@@ -59,6 +60,7 @@ mod takes;
 mod wind_search;
 mod wind_step;
 
+pub(crate) use base_states::base_on;
 use proposal::{proposal, tentative, wind_moved};
 pub(crate) use report::describe;
 use report::summary;
@@ -203,6 +205,7 @@ fn problems_on(
         model,
     };
     Ok(problems::build(
+        set.object.mass,
         samples,
         &outcome.reconstruction,
         &ctx,

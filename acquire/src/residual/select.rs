@@ -29,6 +29,7 @@
 use crate::fit::joint::{held_out, Solution};
 use crate::residual::candidates::{plausible, Candidate, ALL};
 use crate::residual::identify::{beyond_cf, unexplained_without_cf, COPY_FRACTION};
+use crate::residual::output_error;
 use crate::residual::problems::Problems;
 use nalgebra::DVector;
 use omniad_core::effect::EffectKind;
@@ -71,7 +72,11 @@ pub(crate) struct Scored {
     /// `per_take` (the force problem's takes; 0 for a take without torque
     /// frames).
     pub torque_per_take: Vec<f64>,
-    /// RMS force residual on held-out takes, N.
+    /// RMS force residual on held-out takes, N; with added mass in the
+    /// design, the output error ([`output_error`]: `M` times the measured
+    /// minus the predicted rate). `per_take`, which the significance
+    /// tests read, stays the weighted equation error (the conservative
+    /// one for added mass).
     pub force_rms: f64,
     /// RMS torque residual on held-out takes (effects held at the force
     /// fit's values), N m.
@@ -79,7 +84,7 @@ pub(crate) struct Scored {
     /// Fold solutions of the force problem.
     pub folds: Vec<Solution>,
     /// Per force frame (in `Problems::force.frames` order): its held-out
-    /// residual in the fit's basis.
+    /// residual in the fit's basis (the one `force_rms` is made of).
     pub residuals: Vec<nalgebra::Vector3<f64>>,
 }
 
@@ -148,7 +153,14 @@ pub(crate) fn score(p: &Problems, design: &[Candidate]) -> Option<Scored> {
     let base = p.force.base;
     let mut residuals = vec![nalgebra::Vector3::zeros(); p.force.frames.len()];
     for (t, (_, s)) in folds.iter().enumerate() {
+        // A design with added mass is scored by the acceleration it
+        // predicts, not by its force at the measured rate.
+        let turn = output_error::of_fold(p, &cols, &s.x);
         for (k, r) in p.force.frame_residuals(&cols, &s.x, t) {
+            let r = match (&turn, p.force_bases.get(k)) {
+                (Some(m), Some(b)) => output_error::in_basis(b, m, &r),
+                _ => r,
+            };
             if let Some(slot) = residuals.get_mut(k) {
                 *slot = r;
             }
@@ -594,6 +606,9 @@ mod tests {
             torque: Joint::new(torque, 0, smoothing),
             offsets,
             force_samples: Vec::new(),
+            force_bases: Vec::new(),
+            mass: 1.0,
+            held_added_mass: Matrix3::zeros(),
         }
     }
 

@@ -11,9 +11,16 @@ pub(crate) fn describe(r: &Report, params: &[(Candidate, Vec<f64>)]) -> Vec<Stri
     let mut out = Vec::new();
     let b = &r.baseline;
     out.push(format!(
-        "The base model predicts held-out takes with force RMS {:.4} N and torque RMS {:.5} N m ({} frames, {} takes).",
+        "The base model predicts held-out takes with force RMS {:.4} N and torque RMS {:.5} N m ({} frames, {} takes), on the states the extended model is scored on.",
         b.heldout_force_rms, b.heldout_torque_rms, r.frames, r.takes
     ));
+    let f = &r.first_round_baseline;
+    if f != b {
+        out.push(format!(
+            "On the first round's states (reconstructed without any effect; the residual read below) it predicts them with force RMS {:.4} N and torque RMS {:.5} N m.",
+            f.heldout_force_rms, f.heldout_torque_rms
+        ));
+    }
     let explained = |name: &str| {
         r.diagnosis
             .explained
@@ -108,6 +115,11 @@ pub(crate) fn describe(r: &Report, params: &[(Candidate, Vec<f64>)]) -> Vec<Stri
         "After: held-out force RMS {:.4} N, torque RMS {:.5} N m.",
         r.after.heldout_force_rms, r.after.heldout_torque_rms
     ));
+    if r.selected.iter().any(|s| s == EffectKind::AddedMass.name()) {
+        out.push(
+            "With added mass the force's acceleration reaction is predicted, not read from the measured rate: its held-out force error is the mass times the measured minus the predicted rate (output error).".into(),
+        );
+    }
     out
 }
 

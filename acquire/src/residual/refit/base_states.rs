@@ -1,0 +1,60 @@
+//! The base model scored on the states the extended model is scored on:
+//! the report's `baseline`, so that "before" and "after" are two models
+//! on one set of held-out frames.
+//!
+//! Why: each round reconstructs the states with its own model in the
+//! filter's process model, and a model-based reconstruction leans its
+//! states toward that model. The first round's states lean toward the
+//! base model (no effect), the last round's toward the extended one.
+//! Scoring the base on the first round's states and the extended model
+//! on the last round's changes the data between "before" and "after".
+//! Measured on synthetic sets against their truth (BENCHMARKS.md, stop
+//! 30): the ratio of the two models' errors against the true force is
+//! followed about twice as closely when both are scored on the last
+//! round's frames. The first round's number stays in the report
+//! (`first_round_baseline`): it is the residual the diagnosis reads.
+//!
+//! A wind is the recording's, not a model's: the last round's frames are
+//! in the air (`V - Rᵀw`); the base model, which knows no wind, is scored
+//! on the same frames back in still air.
+
+use super::wind_search::in_wind;
+use super::{bare, problems_on, Round};
+use crate::input::recording::RecordingSet;
+use crate::reconstruct::forces::Sample;
+use crate::residual::fixed;
+use crate::residual::select::{score, Scored};
+use omniad_core::Coefficients;
+
+/// The base model (the round's coefficients alone, or `given`), no effect
+/// and no wind, scored on held-out takes of round `r`'s frames (the takes
+/// its selection scored), with the force frames it was scored on (in
+/// `Scored::residuals`' order). `None` when the problems cannot be built.
+pub(crate) fn base_on(
+    set: &RecordingSet,
+    r: &Round,
+    given: Option<&Coefficients<f64>>,
+) -> Option<(Vec<Sample>, Scored)> {
+    let Some(w) = r.effects.wind else {
+        // The round's own baseline is exactly this (`select::select`
+        // scores the empty design first).
+        return Some((r.p.force_samples.clone(), r.sel.baseline.clone()));
+    };
+    let takes = &r.p.force.take_ids;
+    let samples: Vec<Sample> = r
+        .outcome
+        .samples
+        .iter()
+        .filter(|s| takes.contains(&s.take))
+        .copied()
+        .collect();
+    let still = in_wind(&samples, &r.outcome.reconstruction, &-w);
+    let model = given.cloned().unwrap_or_else(|| bare(&r.outcome.model));
+    let p = problems_on(set, &r.outcome, &still, &model).ok()?;
+    let p = match given {
+        Some(g) => fixed::hold(p, g).ok()?,
+        None => p,
+    };
+    let s = score(&p, &[])?;
+    (s.per_take.len() == takes.len()).then_some((p.force_samples, s))
+}
