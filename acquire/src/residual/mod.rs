@@ -137,7 +137,8 @@ pub struct Report {
     /// The extended model's held-out errors.
     pub after: HeldOut,
     /// Re-simulation of the takes, each held out (the base and the
-    /// extended model fitted without it).
+    /// extended model fitted without it on the frames `baseline` and
+    /// `after` are scored on, each flown from the same round's states).
     pub resimulation: Option<Resimulation>,
     /// The reconstructed force's noise as the markers alone predict it, N:
     /// `sqrt(mean tr Σ_F)` over the force frames, `Σ_F` the markers-only
@@ -183,30 +184,36 @@ pub struct Analysis {
     pub frames: Vec<frames::FrameResidual>,
 }
 
-/// For each take of `set`, `design` fitted on `round`'s problems without
-/// it (`extend::extend_without`, over the round's bare model or the given
-/// one): the models its held-out re-simulation flies. `None` where the
-/// model cannot be built.
+/// For each of `takes` takes, `design` fitted on problems `p` without it
+/// (`extend::extend_without`, over `model`: a round's bare model or the
+/// given one): the models its held-out re-simulation flies. `None` where
+/// the model cannot be built.
 fn held_out_models(
-    set: &RecordingSet,
-    round: &refit::Round,
+    takes: usize,
+    p: &problems::Problems,
+    model: &Coefficients<f64>,
     design: &[candidates::Candidate],
-    given: Option<&Coefficients<f64>>,
     consts: (f64, f64, f64),
 ) -> Vec<Option<Coefficients<f64>>> {
-    let model = given
-        .cloned()
-        .unwrap_or_else(|| refit::bare(&round.outcome.model));
-    (0..set.takes.len())
-        .map(|t| extend::extend_without(&round.p, &model, design, consts, t).ok())
+    (0..takes)
+        .map(|t| extend::extend_without(p, model, design, consts, t).ok())
         .map(|e| e.map(|e| e.model))
         .collect()
 }
 
+/// The model the candidates of round `r` are fitted against: its
+/// coefficients alone, or `given`.
+fn round_model(r: &refit::Round, given: Option<&Coefficients<f64>>) -> Coefficients<f64> {
+    given
+        .cloned()
+        .unwrap_or_else(|| refit::bare(&r.outcome.model))
+}
+
 /// Runs the analysis of the set in `dir`: the first round on states
 /// reconstructed without any effect, then the refits around the wind and
-/// the named effects it finds ([`refit`]). `baseline` is the first round's base
-/// model; `candidates`, `selected` and `after` are the final round's (the
+/// the named effects it finds ([`refit`]). `baseline` is the base model
+/// on the final round's frames ([`refit::base_on`]; the first round's is
+/// `first_round_baseline`); `candidates`, `selected` and `after` are the final round's (the
 /// first round's when no refit confirmed an effect, or a refit of force
 /// effects only gained too little, `refit::earns_its_place`). With `given` (checked
 /// by [`fixed::check`]) that model is the baseline of every round instead
@@ -228,17 +235,26 @@ pub fn analyse(
         set.world.air_density,
         set.object.reference_length,
     );
-    let same_states = refit::base_on(set, last, given);
-    let (base_frames, base) = match &same_states {
-        Some((frames, scored)) => (frames.as_slice(), scored),
-        None => (first.p.force_samples.as_slice(), &first.sel.baseline),
+    // Before and after on the same frames: the base model scored, fitted
+    // for the re-simulation and flown on the round `after` comes from.
+    let same = refit::base_on(set, last, given);
+    let (before_round, base_p, base) = match &same {
+        Some(b) => (last, b.problems(last), &b.scored),
+        None => (first, &first.p, &first.sel.baseline),
     };
-    let base_models = held_out_models(set, first, &[], given, consts);
-    let extended_models = held_out_models(set, last, &last.sel.selected, given, consts);
+    let n = set.takes.len();
+    let base_models = held_out_models(n, base_p, &round_model(before_round, given), &[], consts);
+    let extended_models = held_out_models(
+        n,
+        &last.p,
+        &round_model(last, given),
+        &last.sel.selected,
+        consts,
+    );
     let resimulation = resimulate::compare(
         set,
         &resimulate::Run {
-            reconstruction: &first.outcome.reconstruction,
+            reconstruction: &before_round.outcome.reconstruction,
             models: &base_models,
             wind: Vector3::zeros(),
         },
@@ -308,7 +324,7 @@ pub fn analyse(
     report.words = words::describe(&report, &params);
     report.words.extend(refit::describe(&report.refit));
     let fit = crate::fit::context::FitContext::of_set(set);
-    let mut table = frames::rows("base", base_frames, &base.residuals, &fit);
+    let mut table = frames::rows("base", &base_p.force_samples, &base.residuals, &fit);
     table.extend(frames::rows(
         "first_round",
         &first.p.force_samples,

@@ -16,29 +16,51 @@
 //!
 //! A wind is the recording's, not a model's: the last round's frames are
 //! in the air (`V - Rᵀw`); the base model, which knows no wind, is scored
-//! on the same frames back in still air.
+//! on the same frames back in still air. The held-out re-simulation's
+//! base models are fitted on the same problems and fly from the same
+//! states (`residual::analyse`).
 
 use super::wind_search::in_wind;
 use super::{bare, problems_on, Round};
 use crate::input::recording::RecordingSet;
 use crate::reconstruct::forces::Sample;
 use crate::residual::fixed;
+use crate::residual::problems::Problems;
 use crate::residual::select::{score, Scored};
 use omniad_core::Coefficients;
 
+/// The base model scored on a round's frames ([`base_on`]).
+pub(crate) struct BaseOn {
+    /// The problems it was scored on when the round holds a wind (its
+    /// frames back in still air); `None`: the round's own problems.
+    pub still_air: Option<Problems>,
+    /// Its held-out scores.
+    pub scored: Scored,
+}
+
+impl BaseOn {
+    /// The problems the base model was scored on (`r`: the round given
+    /// to [`base_on`]).
+    pub fn problems<'a>(&'a self, r: &'a Round) -> &'a Problems {
+        self.still_air.as_ref().unwrap_or(&r.p)
+    }
+}
+
 /// The base model (the round's coefficients alone, or `given`), no effect
 /// and no wind, scored on held-out takes of round `r`'s frames (the takes
-/// its selection scored), with the force frames it was scored on (in
-/// `Scored::residuals`' order). `None` when the problems cannot be built.
+/// its selection scored). `None` when the problems cannot be built.
 pub(crate) fn base_on(
     set: &RecordingSet,
     r: &Round,
     given: Option<&Coefficients<f64>>,
-) -> Option<(Vec<Sample>, Scored)> {
+) -> Option<BaseOn> {
     let Some(w) = r.effects.wind else {
         // The round's own baseline is exactly this (`select::select`
         // scores the empty design first).
-        return Some((r.p.force_samples.clone(), r.sel.baseline.clone()));
+        return Some(BaseOn {
+            still_air: None,
+            scored: r.sel.baseline.clone(),
+        });
     };
     let takes = &r.p.force.take_ids;
     let samples: Vec<Sample> = r
@@ -55,6 +77,9 @@ pub(crate) fn base_on(
         Some(g) => fixed::hold(p, g).ok()?,
         None => p,
     };
-    let s = score(&p, &[])?;
-    (s.per_take.len() == takes.len()).then_some((p.force_samples, s))
+    let scored = score(&p, &[])?;
+    (scored.per_take.len() == takes.len()).then_some(BaseOn {
+        still_air: Some(p),
+        scored,
+    })
 }
