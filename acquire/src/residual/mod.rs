@@ -201,14 +201,6 @@ fn held_out_models(
         .collect()
 }
 
-/// The model the candidates of round `r` are fitted against: its
-/// coefficients alone, or `given`.
-fn round_model(r: &refit::Round, given: Option<&Coefficients<f64>>) -> Coefficients<f64> {
-    given
-        .cloned()
-        .unwrap_or_else(|| refit::bare(&r.outcome.model))
-}
-
 /// Runs the analysis of the set in `dir`: the first round on states
 /// reconstructed without any effect, then the refits around the wind and
 /// the named effects it finds ([`refit`]). `baseline` is the base model
@@ -243,11 +235,17 @@ pub fn analyse(
         None => (first, &first.p, &first.sel.baseline),
     };
     let n = set.takes.len();
-    let base_models = held_out_models(n, base_p, &round_model(before_round, given), &[], consts);
+    let base_models = held_out_models(
+        n,
+        base_p,
+        &before_round.candidates_model(given),
+        &[],
+        consts,
+    );
     let extended_models = held_out_models(
         n,
         &last.p,
-        &round_model(last, given),
+        &last.candidates_model(given),
         &last.sel.selected,
         consts,
     );

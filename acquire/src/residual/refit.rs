@@ -124,6 +124,24 @@ impl Round {
             .filter(|c| *c != Candidate::Wind)
             .collect()
     }
+
+    /// The round's frames of the takes its selection scored (a take left
+    /// out of the round, [`takes::jumps`], is not among them).
+    pub(super) fn selection_samples(&self) -> Vec<Sample> {
+        let takes = &self.p.force.take_ids;
+        self.outcome
+            .samples
+            .iter()
+            .filter(|s| takes.contains(&s.take))
+            .copied()
+            .collect()
+    }
+
+    /// The model the round's candidates are fitted against: its
+    /// coefficients alone, or `given`.
+    pub(crate) fn candidates_model(&self, given: Option<&Coefficients<f64>>) -> Coefficients<f64> {
+        given.cloned().unwrap_or_else(|| bare(&self.outcome.model))
+    }
 }
 
 /// The fit of `set` with `effects` in the process model, the model the

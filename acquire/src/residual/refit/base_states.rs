@@ -21,9 +21,8 @@
 //! states (`residual::analyse`).
 
 use super::wind_search::in_wind;
-use super::{bare, problems_on, Round};
+use super::{problems_on, Round};
 use crate::input::recording::RecordingSet;
-use crate::reconstruct::forces::Sample;
 use crate::residual::fixed;
 use crate::residual::problems::Problems;
 use crate::residual::select::{score, Scored};
@@ -62,23 +61,14 @@ pub(crate) fn base_on(
             scored: r.sel.baseline.clone(),
         });
     };
-    let takes = &r.p.force.take_ids;
-    let samples: Vec<Sample> = r
-        .outcome
-        .samples
-        .iter()
-        .filter(|s| takes.contains(&s.take))
-        .copied()
-        .collect();
-    let still = in_wind(&samples, &r.outcome.reconstruction, &-w);
-    let model = given.cloned().unwrap_or_else(|| bare(&r.outcome.model));
-    let p = problems_on(set, &r.outcome, &still, &model).ok()?;
+    let still = in_wind(&r.selection_samples(), &r.outcome.reconstruction, &-w);
+    let p = problems_on(set, &r.outcome, &still, &r.candidates_model(given)).ok()?;
     let p = match given {
         Some(g) => fixed::hold(p, g).ok()?,
         None => p,
     };
     let scored = score(&p, &[])?;
-    (scored.per_take.len() == takes.len()).then_some(BaseOn {
+    (scored.per_take.len() == r.p.force.take_ids.len()).then_some(BaseOn {
         still_air: Some(p),
         scored,
     })

@@ -36,13 +36,7 @@ pub(super) fn judge(
     build: &dyn Fn(&[Sample]) -> Option<Problems>,
 ) -> Option<Vector3<f64>> {
     let takes = &r.p.force.take_ids;
-    let samples: Vec<Sample> = r
-        .outcome
-        .samples
-        .iter()
-        .filter(|s| takes.contains(&s.take))
-        .copied()
-        .collect();
+    let samples = r.selection_samples();
     let design = r.selected_besides_wind();
     let scored = |frames: &[Sample]| -> Option<Scored> {
         let s = score(&build(frames)?, &design)?;
