@@ -113,5 +113,6 @@ def main():
                   f"{e[2] / b[2]:.3f}; an extended model with no error of its own would give "
                   f"{e[1] / b[0]:.3f} (its target noise over the {before} residual)")
 
+
 if __name__ == "__main__":
     main()

@@ -8,10 +8,9 @@
 //! `BᵀF*`), which changes from frame to frame. `B` is orthonormal, so the
 //! body-frame residual is `B r` with the same length.
 
-use crate::fit::context::FitContext;
 use crate::reconstruct::forces::Sample;
+use crate::residual::problems::Problems;
 use nalgebra::Vector3;
-use omniad_core::basis::vector_basis;
 use std::fmt::Write as _;
 
 /// One frame's held-out residual under one model.
@@ -32,26 +31,22 @@ pub struct FrameResidual {
     pub residual: Vector3<f64>,
 }
 
-/// The rows of `residuals` (one per force frame in `frames`, in the
-/// fit's basis, as `select::Scored::residuals`) in the body frame,
-/// labelled `model`.
+/// The rows of `residuals` (one per force frame of `p`, in the fit's
+/// basis, as `select::Scored::residuals`) in the body frame, labelled
+/// `model`.
 pub(crate) fn rows(
     model: &'static str,
-    frames: &[Sample],
+    p: &Problems,
     residuals: &[Vector3<f64>],
-    fit: &FitContext,
 ) -> Vec<FrameResidual> {
-    frames
+    p.force_samples
         .iter()
+        .zip(&p.force_bases)
         .zip(residuals)
-        .filter_map(|(s, r)| {
-            let e = s.velocity.try_normalize(f64::EPSILON)?;
-            let b = vector_basis(&e, &fit.pole);
-            Some(FrameResidual {
-                model,
-                sample: *s,
-                residual: b[0] * r.x + b[1] * r.y + b[2] * r.z,
-            })
+        .map(|((s, b), r)| FrameResidual {
+            model,
+            sample: *s,
+            residual: b * r,
         })
         .collect()
 }
@@ -81,7 +76,10 @@ pub fn csv(rows: &[FrameResidual], takes: &[String]) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::fit::context::FitContext;
     use crate::fit::force::force_row;
+    use crate::fit::joint::Joint;
+    use crate::fit::smoothing::Smoothing;
     use nalgebra::Matrix3;
 
     /// A residual equal to the whole target (a model that predicts no
@@ -110,7 +108,20 @@ mod tests {
             use_torque: true,
         };
         let row = force_row(&s, &Matrix3::identity(), &fit, 2);
-        let out = rows("base", &[s], &[row.target], &fit);
+        let none = Smoothing {
+            weight: 0.0,
+            order: 2,
+        };
+        let p = Problems {
+            force: Joint::new(Vec::new(), 2, none),
+            torque: Joint::new(Vec::new(), 2, none),
+            offsets: crate::residual::problems::offsets(),
+            force_samples: vec![s],
+            force_bases: vec![row.basis],
+            mass: 0.04,
+            held_added_mass: Matrix3::zeros(),
+        };
+        let out = rows("base", &p, &[row.target]);
         let r = out.first().map(|f| f.residual).unwrap_or_default();
         assert!((r - s.force).norm() < 1e-12, "{r:?} vs {:?}", s.force);
         let text = csv(&out, &["drop-01".into()]);

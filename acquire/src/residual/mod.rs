@@ -321,20 +321,13 @@ pub fn analyse(
     };
     report.words = words::describe(&report, &params);
     report.words.extend(refit::describe(&report.refit));
-    let fit = crate::fit::context::FitContext::of_set(set);
-    let mut table = frames::rows("base", &base_p.force_samples, &base.residuals, &fit);
+    let mut table = frames::rows("base", base_p, &base.residuals);
     table.extend(frames::rows(
         "first_round",
-        &first.p.force_samples,
+        &first.p,
         &first.sel.baseline.residuals,
-        &fit,
     ));
-    table.extend(frames::rows(
-        "extended",
-        &last.p.force_samples,
-        &last.sel.after.residuals,
-        &fit,
-    ));
+    table.extend(frames::rows("extended", &last.p, &last.sel.after.residuals));
     Ok(Analysis {
         report,
         base: first.outcome.model.clone(),
