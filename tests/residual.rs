@@ -153,6 +153,16 @@ fn residual_names_buoyancy_and_clean_air_gets_nothing() {
             .collect()
     };
     assert_eq!(frame_keys("base,"), frame_keys("extended,"));
+    // The generating model itself (`truth/model.omni`, held as it is) on
+    // the same frames: buoyancy's force lies far beyond what C_F can take
+    // over, so the exactly right model leaves much less than the base.
+    let truth_rms = r["truth_model"]["heldout_force_rms"]
+        .as_f64()
+        .expect("truth_model");
+    assert!(
+        truth_rms < 0.7 * before,
+        "truth model {truth_rms} N, base {before} N"
+    );
     let info = omniad(&["info", model.to_str().expect("utf-8")]);
     assert!(info.contains("buoyancy"), "{info}");
 
@@ -163,6 +173,23 @@ fn residual_names_buoyancy_and_clean_air_gets_nothing() {
     omniad(&args);
     let r = residual(clean_s, &[]);
     assert_eq!(r["selected"], serde_json::json!([]), "{r:#}");
+    // Nothing selected, so no refit: the truth is scored on the first
+    // round's frames, which is what `--coeffs truth/model.omni` scores it
+    // on as a given baseline (the same states; nothing of it fitted).
+    let truth = clean.join("truth/model.omni");
+    let given = residual(clean_s, &["--coeffs", truth.to_str().expect("utf-8")]);
+    let (a, b) = (
+        r["truth_model"]["heldout_force_rms"]
+            .as_f64()
+            .expect("truth"),
+        given["baseline"]["heldout_force_rms"]
+            .as_f64()
+            .expect("given"),
+    );
+    assert!(
+        (a - b).abs() <= 1e-9 * b,
+        "truth_model {a} N, --coeffs {b} N"
+    );
 }
 
 /// Runs omniad expecting failure; returns stderr.

@@ -13,6 +13,7 @@ pub mod error;
 pub mod fit;
 pub mod input;
 pub mod lab;
+pub mod omni_file;
 pub(crate) mod parallel;
 pub mod pipeline;
 pub mod reconstruct;

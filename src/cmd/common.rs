@@ -15,13 +15,7 @@ pub fn read_coefficients(path: &Path) -> Result<Coefficients<f64>> {
 }
 
 /// Encodes and writes a `.omni` file atomically (an existing file is
-/// replaced only by a complete new one).
+/// replaced only by a complete new one; [`omniad_acquire::omni_file`]).
 pub fn write_coefficients(path: &Path, model: &Coefficients<f64>) -> Result<()> {
-    let mut buf = vec![0u8; file::MAX_FILE_SIZE];
-    let n = file::encode(model, &mut buf)
-        .map_err(|e| anyhow::anyhow!("encoding {}: {e}", path.display()))?;
-    let bytes = buf
-        .get(..n)
-        .context("encoder reported more bytes than its buffer")?;
-    omniad_io::write_atomic(path, bytes).with_context(|| format!("cannot write {}", path.display()))
+    omniad_acquire::omni_file::write(path, model).map_err(|e| anyhow::anyhow!("{e}"))
 }

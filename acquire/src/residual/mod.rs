@@ -149,6 +149,13 @@ pub struct Report {
     pub markers_only_force_noise_rms: f64,
     /// C_F error against the truth, when the set has `truth/`.
     pub cf_error_vs_truth: Option<TruthError>,
+    /// The generating model's errors on the frames `after` is scored on,
+    /// when the set has `truth/model.omni` (`omniad synth` writes it): the
+    /// exactly right model, held as it is in the set's true wind
+    /// ([`refit::truth_on`]). `truth_model / baseline` is the lowest ratio
+    /// the frames let any model reach, up to the part of their noise a
+    /// fitted model can follow (BENCHMARKS.md, stop 31).
+    pub truth_model: Option<HeldOut>,
     /// The selected wind (world frame, m/s).
     pub wind: Option<[f64; 3]>,
     /// The residual's diagnosis.
@@ -290,6 +297,7 @@ pub fn analyse(
             null_gain: t.null_gain,
         })
         .collect();
+    let truth = refit::truth_on(dir, set, last);
     let mut report = Report {
         baseline: HeldOut {
             heldout_force_rms: base.force_rms,
@@ -310,6 +318,7 @@ pub fn analyse(
         resimulation,
         markers_only_force_noise_rms: markers_only_noise(&first.p.force_samples),
         cf_error_vs_truth,
+        truth_model: truth.as_ref().ok().copied().flatten(),
         wind: rounds.wind.map(|w| [w.x, w.y, w.z]),
         diagnosis,
         words: Vec::new(),
@@ -321,6 +330,11 @@ pub fn analyse(
     };
     report.words = words::describe(&report, &params);
     report.words.extend(refit::describe(&report.refit));
+    if let Err(why) = truth {
+        report
+            .words
+            .push(format!("The truth's model could not be scored: {why}."));
+    }
     let mut table = frames::rows("base", base_p, &base.residuals);
     table.extend(frames::rows(
         "first_round",

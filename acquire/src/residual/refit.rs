@@ -57,6 +57,7 @@ mod proposal;
 mod report;
 mod state;
 mod takes;
+mod truth_model;
 mod wind_search;
 mod wind_step;
 
@@ -65,6 +66,7 @@ use proposal::{proposal, tentative, wind_moved};
 pub(crate) use report::describe;
 use report::summary;
 pub use report::{JumpedTake, Refit, RefitRound};
+pub(crate) use truth_model::truth_on;
 use wind_search::FirstStates;
 pub use wind_search::WindSearch;
 

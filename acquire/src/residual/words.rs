@@ -3,7 +3,7 @@
 //! where the residual grows), what was rejected and why.
 
 use crate::residual::candidates::Candidate;
-use crate::residual::Report;
+use crate::residual::{HeldOut, Report};
 use omniad_core::effect::EffectKind;
 
 /// Sentences describing `r`; `params` are the kept effects' parameters.
@@ -120,7 +120,25 @@ pub(crate) fn describe(r: &Report, params: &[(Candidate, Vec<f64>)]) -> Vec<Stri
             "With added mass the force's acceleration reaction is predicted, not read from the measured rate: its held-out force error is the mass times the measured minus the predicted rate (output error).".into(),
         );
     }
+    if let Some(t) = &r.truth_model {
+        out.push(truth_words(t, &r.baseline, &r.after));
+    }
     out
+}
+
+/// The generating model's score beside before and after.
+fn truth_words(t: &HeldOut, before: &HeldOut, after: &HeldOut) -> String {
+    let (t, b, a) = (
+        t.heldout_force_rms,
+        before.heldout_force_rms,
+        after.heldout_force_rms,
+    );
+    format!(
+        "The generating model itself (truth/model.omni) has force RMS {t:.4} N on the same frames: {:.2} of the base model's (the extended model: {:.2}). What it leaves is the reconstruction's noise in the measured forces, which no model removes: a ratio much below {:.2} on these frames would mean a model that follows that noise.",
+        t / b,
+        a / b,
+        t / b,
+    )
 }
 
 fn kind_words(c: Candidate) -> &'static str {

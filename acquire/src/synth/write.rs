@@ -133,7 +133,61 @@ pub fn generate(out: &Path, cfg: &SynthConfig) -> Result<Vec<(String, f64)>> {
         &truth_dir.join("model.toml"),
         &truth_toml(&model, cfg, &effects, &fractions),
     )?;
+    crate::omni_file::write(
+        &truth_dir.join("model.omni"),
+        &truth_file(model, &spec, cfg, &effects)?,
+    )?;
     Ok(fractions)
+}
+
+/// The generating model as a coefficient file holds it: the coefficients
+/// with the set's object effects stored (a wind is the recording's, not
+/// the object's, and is not stored), the object's name and mass
+/// properties, and the object, seed and effects in its provenance. `truth/model.omni` lets
+/// any command that takes a model use the truth itself: `omniad residual
+/// SET --coeffs SET/truth/model.omni` scores the generating model on the
+/// reconstructed states, what is left when the model is exactly right
+/// (the reconstruction's own noise in the measured forces).
+fn truth_file(
+    mut model: omniad_core::Coefficients<f64>,
+    spec: &ObjectSpec,
+    cfg: &SynthConfig,
+    effects: &[omniad_core::effect::Effect<f64>],
+) -> Result<omniad_core::Coefficients<f64>> {
+    let bad = |what: &str, err: &dyn std::fmt::Display| {
+        Error::Data(format!("truth/model.omni: {what}: {err}"))
+    };
+    for e in effects {
+        model
+            .set_effect(*e)
+            .map_err(|err| bad(e.kind.name(), &err))?;
+    }
+    model.set_name(spec.name).map_err(|err| bad("name", &err))?;
+    let i = spec.inertia();
+    model.body = Some(omniad_core::metadata::MassProperties {
+        mass: spec.mass,
+        inertia: [
+            i[(0, 0)],
+            i[(1, 1)],
+            i[(2, 2)],
+            i[(0, 1)],
+            i[(0, 2)],
+            i[(1, 2)],
+        ],
+    });
+    let mut source = format!("omniad synth truth: {}, seed {}", spec.name, cfg.seed);
+    for e in &cfg.effects {
+        let _ = write!(source, ", {}={}", e.name, e.scale);
+    }
+    let p = &mut model.provenance;
+    p.method.clear();
+    p.source.clear();
+    // Both fit their capacities (32 and TEXT_CAPACITY bytes) except a
+    // very long effect list, whose source is then left empty rather than
+    // cut in the middle of a word.
+    let _ = p.method.push_str("synth-truth");
+    let _ = p.source.push_str(&source);
+    Ok(model)
 }
 
 /// `truth/model.toml`: the generating model's constants, the wind, and
@@ -281,4 +335,61 @@ fn coefficients_csv(model: &omniad_core::Coefficients<f64>) -> String {
         }
     }
     s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::generate;
+    use crate::synth::{truth_model, Effect, ObjectSpec, SynthConfig, SynthObject};
+    use nalgebra::Vector3;
+    use omniad_core::effect::EffectKind;
+
+    #[test]
+    fn the_truth_is_written_as_a_coefficient_file_with_its_object_effects() {
+        let dir = tempfile::tempdir().expect("tempdir");
+        let cfg = SynthConfig {
+            object: SynthObject::Plate,
+            effects: ["added_mass=0.3", "linear_drag=600"]
+                .iter()
+                .map(|e| Effect::parse(e).expect("effect"))
+                .collect(),
+            wind: Vector3::new(1.0, 0.0, 0.0),
+            takes: (1, 0),
+            ..SynthConfig::default()
+        };
+        generate(dir.path(), &cfg).expect("synth");
+        let bytes = std::fs::read(dir.path().join("truth/model.omni")).expect("model.omni");
+        let file = omniad_core::file::decode::<f64>(&bytes).expect("decodes");
+        let spec = ObjectSpec::of(SynthObject::Plate);
+        let truth = truth_model(&spec, cfg.degree).expect("truth");
+        // The coefficients: the generating model's (stored as f32).
+        for c in 0..3 {
+            for k in 0..truth.coeff_count() {
+                let (a, b) = (file.alpha(c, k).expect("a"), truth.alpha(c, k).expect("b"));
+                assert!(
+                    (a - b).abs() <= 1e-6 * (1.0 + b.abs()),
+                    "alpha {c},{k}: {a} vs {b}"
+                );
+            }
+        }
+        // The object's effects at the parameters the physics used, the
+        // wind (the recording's) not among them.
+        let rho = omniad_core::Environment::<f64>::standard().air_density;
+        for e in &cfg.effects {
+            let used = e.effect(&spec, rho).expect("effect");
+            let stored = file.effect(used.kind).expect("stored");
+            for (a, b) in stored.used_params().iter().zip(used.used_params()) {
+                assert!(
+                    (a - b).abs() <= 1e-6 * b.abs().max(1e-9),
+                    "{}: {a} vs {b}",
+                    e.name
+                );
+            }
+        }
+        assert_eq!(file.effects().len(), 2);
+        assert!(file.effect(EffectKind::Buoyancy).is_none());
+        assert_eq!(file.name(), "plate");
+        assert_eq!(file.body.map(|b| b.mass), Some(spec.mass));
+        assert_eq!(file.provenance.method.as_str(), "synth-truth");
+    }
 }
