@@ -55,17 +55,12 @@ pub fn zero_model(object: &Object, degree: u8) -> Result<Coefficients<f64>> {
         })
         .collect();
     m.set_name(&name).map_err(model_error)?;
-    let i = object.inertia;
+    // The file stores the symmetric part (the recording's reader checks
+    // the inertia is symmetric to 1e-9; a recording's usual exactly
+    // symmetric tensor is stored bit for bit).
     m.body = Some(MassProperties {
         mass: object.mass,
-        inertia: [
-            i[(0, 0)],
-            i[(1, 1)],
-            i[(2, 2)],
-            i[(0, 1)],
-            i[(0, 2)],
-            i[(1, 2)],
-        ],
+        inertia: omniad_core::math::six_from_symmetric(&object.inertia),
     });
     Ok(m)
 }

@@ -163,17 +163,9 @@ fn truth_file(
             .map_err(|err| bad(e.kind.name(), &err))?;
     }
     model.set_name(spec.name).map_err(|err| bad("name", &err))?;
-    let i = spec.inertia();
     model.body = Some(omniad_core::metadata::MassProperties {
         mass: spec.mass,
-        inertia: [
-            i[(0, 0)],
-            i[(1, 1)],
-            i[(2, 2)],
-            i[(0, 1)],
-            i[(0, 2)],
-            i[(1, 2)],
-        ],
+        inertia: omniad_core::math::six_from_symmetric(&spec.inertia()),
     });
     let mut source = format!("omniad synth truth: {}, seed {}", spec.name, cfg.seed);
     for e in &cfg.effects {
