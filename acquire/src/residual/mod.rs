@@ -152,9 +152,10 @@ pub struct Report {
     /// The generating model's errors on the frames `after` is scored on,
     /// when the set has `truth/model.omni` (`omniad synth` writes it): the
     /// exactly right model, held as it is in the set's true wind
-    /// ([`refit::truth_on`]). `truth_model / baseline` is the lowest ratio
-    /// the frames let any model reach, up to the part of their noise a
-    /// fitted model can follow (BENCHMARKS.md, stop 31).
+    /// ([`refit::truth_on`]). `truth_model / baseline` is the ratio the
+    /// exactly right model gets on these frames; not a bound, since the
+    /// states lean toward the fitted model they were reconstructed with
+    /// (BENCHMARKS.md, stop 31).
     pub truth_model: Option<HeldOut>,
     /// The selected wind (world frame, m/s).
     pub wind: Option<[f64; 3]>,

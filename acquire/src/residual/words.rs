@@ -134,7 +134,7 @@ fn truth_words(t: &HeldOut, before: &HeldOut, after: &HeldOut) -> String {
         after.heldout_force_rms,
     );
     format!(
-        "The generating model itself (truth/model.omni) has force RMS {t:.4} N on the same frames: {:.2} of the base model's (the extended model: {:.2}). What it leaves is the reconstruction's noise in the measured forces, which no model removes: a ratio much below {:.2} on these frames would mean a model that follows that noise.",
+        "The generating model itself (truth/model.omni, held as it is) has force RMS {t:.4} N on the same frames: {:.2} of the base model's (the extended model: {:.2}). The states were reconstructed with the fitted model in the filter's process model and lean toward it, so a fitted model can score below the truth: {:.2} is the ratio the exactly right model gets on these frames, not a bound.",
         t / b,
         a / b,
         t / b,
