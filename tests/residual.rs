@@ -228,6 +228,8 @@ fn assert_item7_keys(r: &serde_json::Value) {
         }
     }
     assert!(r["selected"].is_array(), "selected missing");
+    // Before and after on the same frames (this set's rounds build them).
+    assert_eq!(r["baseline_frames"], "final_round", "{r:#}");
     assert_eq!(
         r["selected_params"].as_array().map(|a| a.len()),
         r["selected"].as_array().map(|a| a.len()),

@@ -126,6 +126,11 @@ pub struct Report {
     /// `given` (`--coeffs`, held fixed; candidates' `params` are then
     /// increments on what it stores).
     pub baseline_model: &'static str,
+    /// The states `baseline` is scored on: `final_round` (those of
+    /// `after`), or `first_round` when the base model could not be scored
+    /// on the final round's frames (its problems in still air could not
+    /// be built); the words then say so.
+    pub baseline_frames: &'static str,
     /// Every candidate as tried.
     pub candidates: Vec<CandidateReport>,
     /// Kept effects, strongest (first chosen) first.
@@ -309,6 +314,11 @@ pub fn analyse(
             heldout_torque_rms: first.sel.baseline.torque_rms,
         },
         baseline_model: if given.is_some() { "given" } else { "fitted" },
+        baseline_frames: if same.is_some() {
+            "final_round"
+        } else {
+            "first_round"
+        },
         candidates,
         selected_params: params.iter().map(|(_, v)| v.clone()).collect(),
         selected,
@@ -331,6 +341,11 @@ pub fn analyse(
     };
     report.words = words::describe(&report, &params);
     report.words.extend(refit::describe(&report.refit));
+    if same.is_none() {
+        report.words.push(
+            "The base model could not be scored on the final round's frames (back in still air): `baseline` is its score on the first round's states, so before and after are not on the same frames.".into(),
+        );
+    }
     if let Err(why) = truth {
         report
             .words
