@@ -1,21 +1,24 @@
 //! Helpers shared by commands: reading coefficient files with errors that
 //! name the file.
 
-use anyhow::{Context, Result};
-use omniad_core::{file, Coefficients};
+use anyhow::Result;
+use omniad_acquire::{omni_file, Error};
+use omniad_core::Coefficients;
 use std::path::Path;
 
-/// Reads and decodes a `.omni` file in f64, naming the file in any error.
-/// Reads at most the format's maximum size, so a device or a huge file is
-/// an error at once, not gigabytes read before the header check.
+/// Reads and decodes a `.omni` file in f64, naming the file in any error
+/// ([`omni_file::read`]: at most the format's maximum size is read).
 pub fn read_coefficients(path: &Path) -> Result<Coefficients<f64>> {
-    let bytes = omniad_io::read_capped(path, file::MAX_FILE_SIZE)
-        .with_context(|| format!("cannot read {}", path.display()))?;
-    file::decode::<f64>(&bytes).map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))
+    omni_file::read(path).map_err(|e| match e {
+        Error::Io { path, source } => {
+            anyhow::Error::new(source).context(format!("cannot read {}", path.display()))
+        }
+        other => anyhow::anyhow!("{other}"),
+    })
 }
 
 /// Encodes and writes a `.omni` file atomically (an existing file is
-/// replaced only by a complete new one; [`omniad_acquire::omni_file`]).
+/// replaced only by a complete new one; [`omni_file::write`]).
 pub fn write_coefficients(path: &Path, model: &Coefficients<f64>) -> Result<()> {
-    omniad_acquire::omni_file::write(path, model).map_err(|e| anyhow::anyhow!("{e}"))
+    omni_file::write(path, model).map_err(|e| anyhow::anyhow!("{e}"))
 }

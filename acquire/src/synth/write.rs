@@ -143,11 +143,11 @@ pub fn generate(out: &Path, cfg: &SynthConfig) -> Result<Vec<(String, f64)>> {
 /// The generating model as a coefficient file holds it: the coefficients
 /// with the set's object effects stored (a wind is the recording's, not
 /// the object's, and is not stored), the object's name and mass
-/// properties, and the object, seed and effects in its provenance. `truth/model.omni` lets
-/// any command that takes a model use the truth itself: `omniad residual
-/// SET --coeffs SET/truth/model.omni` scores the generating model on the
-/// reconstructed states, what is left when the model is exactly right
-/// (the reconstruction's own noise in the measured forces).
+/// properties, and the object, seed and effects in its provenance.
+/// `truth/model.omni` lets any command that takes a model use the truth
+/// itself: `omniad residual SET --coeffs SET/truth/model.omni` scores the
+/// generating model on the reconstructed states, what is left when the
+/// model is exactly right.
 fn truth_file(
     mut model: omniad_core::Coefficients<f64>,
     spec: &ObjectSpec,

@@ -26,6 +26,7 @@ use crate::input::recording::RecordingSet;
 use crate::residual::fixed;
 use crate::residual::problems::Problems;
 use crate::residual::select::{score, Scored};
+use nalgebra::Vector3;
 use omniad_core::Coefficients;
 
 /// The base model scored on a round's frames ([`base_on`]).
@@ -61,15 +62,39 @@ pub(crate) fn base_on(
             scored: r.sel.baseline.clone(),
         });
     };
-    let still = in_wind(&r.selection_samples(), &r.outcome.reconstruction, &-w);
-    let p = problems_on(set, &r.outcome, &still, &r.candidates_model(given)).ok()?;
-    let p = match given {
-        Some(g) => fixed::hold(p, g).ok()?,
-        None => p,
-    };
-    let scored = score(&p, &[])?;
-    (scored.per_take.len() == r.p.force.take_ids.len()).then_some(BaseOn {
+    let model = r.candidates_model(given);
+    let (p, scored) = scored_on(set, r, &-w, &model, given.is_some()).ok()?;
+    Some(BaseOn {
         still_air: Some(p),
         scored,
     })
+}
+
+/// `model` with no effect beyond what it stores, scored on held-out takes
+/// of round `r`'s frames (the takes its selection scored) seen in the
+/// round's wind plus `shift` (world, m/s): held as it is when `hold`
+/// (nothing fitted, so its error is its residual on every take), else its
+/// coefficients fitted leave-one-take-out. With the problems it was scored
+/// on; `Err` says why not (problems not built, non-finite errors, or not
+/// every take of the round scored, which would not be the round's frames).
+pub(super) fn scored_on(
+    set: &RecordingSet,
+    r: &Round,
+    shift: &Vector3<f64>,
+    model: &Coefficients<f64>,
+    hold: bool,
+) -> Result<(Problems, Scored), String> {
+    let frames = in_wind(&r.selection_samples(), &r.outcome.reconstruction, shift);
+    let p = problems_on(set, &r.outcome, &frames, model).map_err(|e| e.to_string())?;
+    let p = if hold {
+        fixed::hold(p, model).map_err(|e| e.to_string())?
+    } else {
+        p
+    };
+    let scored = score(&p, &[]).ok_or("its held-out errors are not finite")?;
+    let (got, want) = (scored.per_take.len(), r.p.force.take_ids.len());
+    if got != want {
+        return Err(format!("{got} of the round's {want} takes scored"));
+    }
+    Ok((p, scored))
 }

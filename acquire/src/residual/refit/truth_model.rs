@@ -11,20 +11,21 @@
 //! than argued. It is not a bound: the states were reconstructed with the
 //! fitted model in the filter's process model and lean toward it, so a
 //! fitted model can score below the truth (a clean plate's fitted base
-//! 0.039 N against the truth's 0.058 N, BENCHMARKS.md stop 31). The truth is `truth/model.omni`, which `omniad synth`
-//! writes (the generating coefficients with the object's effects); it is
-//! held as it is (`fixed::hold`, nothing fitted, so its "held-out" error is
-//! its residual on every take), in the set's true wind
-//! (`truth/model.toml`'s `wind`), which may differ from the round's.
+//! 0.039 N against the truth's 0.058 N, BENCHMARKS.md stop 31).
+//!
+//! The truth is `truth/model.omni`, which `omniad synth` writes (the
+//! generating coefficients with the object's effects); it is held as it
+//! is (`fixed::hold`, nothing fitted, so its "held-out" error is its
+//! residual on every take), in the set's true wind (`truth/model.toml`'s
+//! `wind`), which may differ from the round's.
 
-use super::wind_search::in_wind;
-use super::{problems_on, Round};
+use super::base_states::scored_on;
+use super::Round;
 use crate::input::recording::RecordingSet;
+use crate::omni_file;
 use crate::residual::fixed;
-use crate::residual::select::score;
 use crate::residual::HeldOut;
 use nalgebra::Vector3;
-use omniad_core::{file, Coefficients};
 use std::path::Path;
 
 /// The generating model's errors on round `r`'s frames (the takes its
@@ -39,34 +40,26 @@ pub(crate) fn truth_on(
     if !path.exists() {
         return Ok(None);
     }
-    let model = read(&path)?;
-    fixed::check(&model, set).map_err(|e| format!("{}: {e}", path.display()))?;
+    let model = omni_file::read(&path).map_err(|e| e.to_string())?;
+    let named = |e: String| format!("{}: {e}", path.display());
+    fixed::check(&model, set).map_err(named)?;
     let wind = true_wind(&dir.join("truth").join("model.toml"))?;
     let shift = wind - r.effects.wind.unwrap_or_else(Vector3::zeros);
-    let frames = in_wind(&r.selection_samples(), &r.outcome.reconstruction, &shift);
-    let p = problems_on(set, &r.outcome, &frames, &model)
-        .and_then(|p| fixed::hold(p, &model))
-        .map_err(|e| format!("{}: {e}", path.display()))?;
-    let s =
-        score(&p, &[]).ok_or_else(|| format!("{}: its errors are not finite", path.display()))?;
+    let (_, s) = scored_on(set, r, &shift, &model, true).map_err(named)?;
     Ok(Some(HeldOut {
         heldout_force_rms: s.force_rms,
         heldout_torque_rms: s.torque_rms,
     }))
 }
 
-fn read(path: &Path) -> Result<Coefficients<f64>, String> {
-    let bytes = omniad_io::read_capped(path, file::MAX_FILE_SIZE)
-        .map_err(|e| format!("{}: {e}", path.display()))?;
-    file::decode::<f64>(&bytes).map_err(|e| format!("{}: {e}", path.display()))
-}
-
 /// `wind = [x, y, z]` of `truth/model.toml` (world, m/s); zero when the
-/// file or the key is absent (a set without a wind).
+/// file or the key is absent (a set without a wind). A file present but
+/// unreadable is an error, not a still air.
 fn true_wind(path: &Path) -> Result<Vector3<f64>, String> {
-    let Ok(text) = std::fs::read_to_string(path) else {
+    if !path.exists() {
         return Ok(Vector3::zeros());
-    };
+    }
+    let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
     let value: toml::Value =
         toml::from_str(&text).map_err(|e| format!("{}: {e}", path.display()))?;
     let Some(w) = value.get("wind") else {
