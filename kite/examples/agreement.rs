@@ -1,7 +1,9 @@
 //! Verdict vs flight on variants of kite files (issue 17's robustness
 //! check): each file at its own pitch and string offset, pitched by
 //! `--pitch` degrees, and with the offset moved by `--offset` metres, each
-//! flown 60 s in 1 m/s gusts on seeds 1-3.
+//! flown 60 s in 1 m/s gusts on seeds 1-3. `PITCHES=-7,-3,3,7` and
+//! `OFFSETS=-0.06,0.06` replace the default changes (±5/±10°, ±0.03/±0.10
+//! m), to fly variants the designs were not checked against.
 //! `cargo run --release -p omniad-kite --example agreement -- data/kites/*.toml`
 //! prints one row per variant (verdict, largest growth rate, the gust
 //! response's predicted lowest line elevation / largest spin, each seed's
@@ -21,10 +23,34 @@ use omniad_kite::{check, flight, spec::StringSpec, Design, Library};
 const PITCHES: [f64; 4] = [-10.0, -5.0, 5.0, 10.0];
 const OFFSETS: [f64; 4] = [-0.10, -0.03, 0.03, 0.10];
 
+/// The changes to try: `var` (comma-separated numbers, e.g.
+/// `PITCHES=-7,-3,3,7`) or the defaults above, so variants other than
+/// the ones designs were tuned against can be flown.
+fn changes(var: &str, default: &[f64]) -> anyhow::Result<Vec<f64>> {
+    match std::env::var(var) {
+        Ok(s) => s
+            .split(',')
+            .map(|t| t.trim().parse::<f64>().map_err(|e| anyhow::anyhow!("{var}: {t:?}: {e}")))
+            .collect(),
+        Err(_) => Ok(default.to_vec()),
+    }
+}
+
+/// `x` with `digits` decimals when that is exact, else in full (keeps
+/// the cache keys of the default variants, "offset -0.10").
+fn label(x: f64, digits: usize) -> String {
+    let short = format!("{x:+.digits$}");
+    if short.parse::<f64>().map_or(false, |y| y == x) {
+        short
+    } else {
+        format!("{x:+}")
+    }
+}
+
 fn variants(d: &Design) -> anyhow::Result<Vec<(String, Design)>> {
     let base = check::check(d, None)?.attachment_offset;
     let mut out = vec![("file".to_string(), d.clone())];
-    for p in PITCHES {
+    for p in changes("PITCHES", &PITCHES)? {
         let mut v = d.clone();
         v.spec.orientation[1] += p;
         // Keep the file's offset (a pitch change moves the eq. 16 line).
@@ -33,16 +59,16 @@ fn variants(d: &Design) -> anyhow::Result<Vec<(String, Design)>> {
             offset: Some(base),
             length: d.spec.string.length,
         };
-        out.push((format!("pitch {p:+.0}"), v));
+        out.push((format!("pitch {}", label(p, 0)), v));
     }
-    for o in OFFSETS {
+    for o in changes("OFFSETS", &OFFSETS)? {
         let mut v = d.clone();
         v.spec.string = StringSpec {
             gamma: None,
             offset: Some(base + o),
             length: d.spec.string.length,
         };
-        out.push((format!("offset {o:+.2}"), v));
+        out.push((format!("offset {}", label(o, 2)), v));
     }
     Ok(out)
 }
