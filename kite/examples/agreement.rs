@@ -30,7 +30,11 @@ fn changes(var: &str, default: &[f64]) -> anyhow::Result<Vec<f64>> {
     match std::env::var(var) {
         Ok(s) => s
             .split(',')
-            .map(|t| t.trim().parse::<f64>().map_err(|e| anyhow::anyhow!("{var}: {t:?}: {e}")))
+            .map(|t| {
+                t.trim()
+                    .parse::<f64>()
+                    .map_err(|e| anyhow::anyhow!("{var}: {t:?}: {e}"))
+            })
             .collect(),
         Err(_) => Ok(default.to_vec()),
     }
@@ -40,7 +44,7 @@ fn changes(var: &str, default: &[f64]) -> anyhow::Result<Vec<f64>> {
 /// the cache keys of the default variants, "offset -0.10").
 fn label(x: f64, digits: usize) -> String {
     let short = format!("{x:+.digits$}");
-    if short.parse::<f64>().map_or(false, |y| y == x) {
+    if short.parse::<f64>() == Ok(x) {
         short
     } else {
         format!("{x:+}")
