@@ -52,6 +52,7 @@
 //! they are the last resort, not physics to predict with.
 
 mod base_states;
+mod likelihood_probe;
 mod markers;
 mod proposal;
 mod report;
@@ -62,7 +63,8 @@ mod wind_search;
 mod wind_step;
 
 pub(crate) use base_states::base_on;
-use proposal::{proposal, tentative, wind_moved};
+pub use likelihood_probe::AddedMassProbe;
+use proposal::{in_doubt, proposal, tentative, wind_moved};
 pub(crate) use report::describe;
 use report::summary;
 pub use report::{JumpedTake, Refit, RefitRound};
@@ -156,13 +158,19 @@ fn prepare(
     given: Option<&Coefficients<f64>>,
     progress: &dyn Progress,
 ) -> Result<(FitOutcome, Coefficients<f64>, Problems)> {
+    let outcome = fit(set, &round_config(cfg, effects), progress)?;
+    let (model, p) = problems_of(set, &outcome, given, &[], progress)?;
+    Ok((outcome, model, p))
+}
+
+/// The refinement's settings of a round with `effects` in the process
+/// model (no generic blocks: they are the selection's to try).
+fn round_config(cfg: &FitConfig, effects: &StateEffects) -> FitConfig {
     let mut base_cfg = cfg.clone();
     base_cfg.lsq.extensions = false;
     base_cfg.filter.wind = effects.wind.unwrap_or_else(Vector3::zeros);
     base_cfg.effects = effects.effects.clone();
-    let outcome = fit(set, &base_cfg, progress)?;
-    let (model, p) = problems_of(set, &outcome, given, &[], progress)?;
-    Ok((outcome, model, p))
+    base_cfg
 }
 
 /// The model the candidates are fitted against and the joint problems on
@@ -527,10 +535,24 @@ pub(crate) fn run(
             effects: Vec::new(),
         };
     }
+    // An added mass the first states hide, or read as its coupling: the
+    // markers' likelihood judges ([`likelihood_probe`]).
+    let doubt = in_doubt(&first, &trial).filter(|_| given.is_none());
+    let probed = doubt.as_ref().and_then(|d| {
+        let base = round_config(cfg, &StateEffects::default());
+        likelihood_probe::probe(set, &base, &first, d, progress)
+    });
+    if let (Some(e), Some(d)) = (probed.as_ref().and_then(AddedMassProbe::effect), doubt) {
+        trial = StateEffects {
+            wind: None,
+            effects: d.others.into_iter().chain([e]).collect(),
+        };
+    }
     let as_array = |w: Option<Vector3<f64>>| w.map(|w| [w.x, w.y, w.z]);
     let mut refit = Refit {
         wind_before_refilter: as_array(trial.wind),
         wind_search: searched,
+        added_mass_probe: probed,
         rounds: vec![summary(&first)],
         ..Refit::default()
     };

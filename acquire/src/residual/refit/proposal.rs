@@ -129,26 +129,84 @@ pub(super) fn proposal(r: &Round, first: bool) -> StateEffects {
     // tried; the coupling is a force, held as fitted (its rotational lift
     // included, `CouplingSplit`), since the first states' bias can make it
     // lose on the torque or fail plausibility as it makes added mass fail.
-    let readings = [EffectKind::AddedMass, EffectKind::AddedMassCoupling];
-    let carrying = readings.iter().any(|k| r.effects.effect(*k).is_some());
+    let carrying = READINGS.iter().any(|k| r.effects.effect(*k).is_some());
     if (first || carrying) && effects.is_empty() {
-        let best = r
-            .sel
-            .tried
-            .iter()
-            .filter(|t| t.step == 0 && readings.iter().any(|k| t.candidate == Candidate::Named(*k)))
-            .filter(|t| significant(t))
-            .max_by(|a, b| a.gain.total_cmp(&b.gain));
-        let tentative = best.and_then(|t| match t.candidate {
-            Candidate::Named(EffectKind::AddedMass) => {
-                psd(&t.params).and_then(|m| added_mass_effect(&m))
-            }
-            Candidate::Named(kind) => Effect::new(kind, &t.params),
-            _ => None,
-        });
-        effects.extend(tentative);
+        effects.extend(significant_reading(r).and_then(as_tentative));
     }
     StateEffects { wind, effects }
+}
+
+/// The two readings of M_a: added mass, and its coupling alone.
+const READINGS: [EffectKind; 2] = [EffectKind::AddedMass, EffectKind::AddedMassCoupling];
+
+/// Of round `r`'s step-0 readings of M_a ([`READINGS`]), the significant
+/// one whose held-out force gains most.
+fn significant_reading(r: &Round) -> Option<&select::Tried> {
+    r.sel
+        .tried
+        .iter()
+        .filter(|t| t.step == 0 && READINGS.iter().any(|k| t.candidate == Candidate::Named(*k)))
+        .filter(|t| significant(t))
+        .max_by(|a, b| a.gain.total_cmp(&b.gain))
+}
+
+/// A reading of M_a as the process model can hold it: added mass
+/// projected onto PSD tensors (`None` when nothing positive is left), the
+/// coupling as fitted.
+fn as_tentative(t: &select::Tried) -> Option<Effect<f64>> {
+    match t.candidate {
+        Candidate::Named(EffectKind::AddedMass) => {
+            psd(&t.params).and_then(|m| added_mass_effect(&m))
+        }
+        Candidate::Named(kind) => Effect::new(kind, &t.params),
+        _ => None,
+    }
+}
+
+/// A first-round reading of M_a the markers' likelihood should judge
+/// ([`super::likelihood_probe`]).
+pub(super) struct Doubt {
+    /// The refits' start it would replace (`None`: nothing to start from).
+    pub rival: Option<StateEffects>,
+    /// The start's effects that are not the reading of M_a (held beside
+    /// the probe's added mass).
+    pub others: Vec<Effect<f64>>,
+}
+
+/// Whether the start `trial` of the refits, proposed by the first round
+/// `first`, leaves the reading of M_a in doubt:
+/// * M_a is significant, nothing is kept, and its best reading has
+///   nothing positive to try (the first states, reconstructed without the
+///   acceleration reaction, can leave added mass without a positive part);
+/// * or the start holds the coupling (M_a without the acceleration
+///   reaction) and no wind: the same states favour the coupling, since
+///   they have absorbed the reaction that tells the two apart (plate
+///   `added_mass=0.6`: the coupling kept, C_F 11 -> 19 % off).
+pub(super) fn in_doubt(first: &Round, trial: &StateEffects) -> Option<Doubt> {
+    let coupling = EffectKind::AddedMassCoupling;
+    if trial.wind.is_none() && trial.effect(coupling).is_some() {
+        let split: Vec<EffectKind> = split_parts(first)
+            .filter_map(|(c, _)| match c {
+                Candidate::Named(k) => Some(*k),
+                _ => None,
+            })
+            .collect();
+        let others = trial
+            .effects
+            .iter()
+            .filter(|e| e.kind != coupling && !split.contains(&e.kind))
+            .copied()
+            .collect();
+        return Some(Doubt {
+            rival: Some(trial.clone()),
+            others,
+        });
+    }
+    let unplaced = significant_reading(first).is_some_and(|t| as_tentative(t).is_none());
+    (trial.is_empty() && unplaced).then_some(Doubt {
+        rival: None,
+        others: Vec::new(),
+    })
 }
 
 /// The named effects round `r` held in its process model but did not

@@ -75,6 +75,10 @@ pub struct Refit {
     /// The Gauss-Newton wind search on the first states (from the wind
     /// the first round kept, too, [`super::wind_search`]).
     pub wind_search: Option<super::WindSearch>,
+    /// The added mass searched by the markers' likelihood when the first
+    /// states found it significant with nothing positive to try
+    /// ([`super::likelihood_probe`]).
+    pub added_mass_probe: Option<super::AddedMassProbe>,
     /// Every round, the first (no state effect) first.
     pub rounds: Vec<RefitRound>,
 }
@@ -104,6 +108,7 @@ pub(crate) fn describe(r: &Refit) -> Vec<String> {
         .filter(|s| s.gain > 0.0)
         .map(searched)
         .collect();
+    out.extend(r.added_mass_probe.as_ref().map(probed));
     if r.rounds.len() < 2 {
         return out;
     }
@@ -151,6 +156,43 @@ pub(crate) fn describe(r: &Refit) -> Vec<String> {
         ));
     }
     out
+}
+
+/// The added-mass probe in words.
+fn probed(p: &super::AddedMassProbe) -> String {
+    let tried: Vec<String> = p
+        .scales
+        .iter()
+        .zip(&p.log_likelihood)
+        .map(|(s, l)| l.map_or_else(|| format!("{s}: failed"), |l| format!("{s}: {l:.1}")))
+        .collect();
+    let rival = p.rival.as_ref().map_or_else(String::new, |r| {
+        format!(
+            " The first round's reading ({}) scores {}.",
+            r.effects.join(", "),
+            r.log_likelihood.map_or_else(
+                || "nothing (its refinement failed)".into(),
+                |l| format!("{l:.1}")
+            )
+        )
+    });
+    let verdict = match p.chosen {
+        Some(s) => format!(
+            "Scale {s} predicts the markers best, so the refits start from that added mass (zz {:.2} g)",
+            s * p.shape[2] * 1e3
+        ),
+        None => format!(
+            "No scale beats none and the first round's reading by {:.1}, so the refits start as the first round proposed",
+            super::likelihood_probe::MIN_LOG_LIKELIHOOD_GAIN
+        ),
+    };
+    format!(
+        "The first states cannot tell added mass from its coupling or from nothing (they were reconstructed without the acceleration reaction and absorb it). Each take was reconstructed again with multiples of the potential-flow added mass of the object's inertia-equivalent box (xx, yy, zz {:.2}, {:.2}, {:.2} g) in the process model and scored by how well it predicts the markers (innovation log-likelihood; scale: value): {}.{rival} {verdict}.",
+        p.shape[0] * 1e3,
+        p.shape[1] * 1e3,
+        p.shape[2] * 1e3,
+        tried.join(", ")
+    )
 }
 
 /// The wind search in words.
