@@ -34,6 +34,13 @@
 //!   round that moves from one reading of M_a to the other (or drops a
 //!   coupling's rotational lift) has kept the term
 //!   ([`crate::residual::candidates::Candidate::excludes`]);
+//! * where the first states cannot read M_a (added mass significant with
+//!   nothing positive to try, or the coupling about to start the
+//!   refits), the markers' innovation likelihood of refinements holding
+//!   multiples of the object's potential-flow added mass picks the start
+//!   ([`likelihood_probe`]): the likelihood scores predictions of the raw
+//!   markers, so it does not lean toward the model the states were
+//!   reconstructed with;
 //! * a round is judged take by take ([`takes`]): a take whose held-out
 //!   error jumps while the others settle, or whose markers the round's
 //!   reconstruction misses by more than their noise beyond its first-round
