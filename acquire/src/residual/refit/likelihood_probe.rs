@@ -28,8 +28,8 @@
 //! is uniform; otherwise `M_shape` is only a direction, and the scales span
 //! a factor of 16. Each scale is one refinement of every take (about 7 s
 //! for a plate on the project's VM). The best scale starts the refit
-//! rounds as a tentative added mass when it beats none by
-//! [`MIN_LOG_LIKELIHOOD_GAIN`]. The rounds re-estimate M_a whole and keep
+//! rounds as a tentative added mass when it beats none (and the rival
+//! reading below) by [`MIN_LOG_LIKELIHOOD_GAIN`]. The rounds re-estimate M_a whole and keep
 //! it only if their own selection does, as for any tentative added mass.
 //! The probe runs only when the first round leaves the reading of M_a in
 //! doubt ([`super::proposal::in_doubt`]): added mass significant with
@@ -76,8 +76,8 @@ pub struct AddedMassProbe {
     /// it would replace: its effects and their refinement's
     /// log-likelihood), if any.
     pub rival: Option<Rival>,
-    /// The scale that starts the rounds (`None`: none beat no added mass
-    /// by [`MIN_LOG_LIKELIHOOD_GAIN`]).
+    /// The scale that starts the rounds (`None`: none beat no added mass,
+    /// and the rival where there is one, by [`MIN_LOG_LIKELIHOOD_GAIN`]).
     pub chosen: Option<f64>,
 }
 

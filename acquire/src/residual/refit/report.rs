@@ -76,8 +76,8 @@ pub struct Refit {
     /// the first round kept, too, [`super::wind_search`]).
     pub wind_search: Option<super::WindSearch>,
     /// The added mass searched by the markers' likelihood when the first
-    /// states found it significant with nothing positive to try
-    /// ([`super::likelihood_probe`]).
+    /// round left M_a in doubt: significant with nothing positive to try,
+    /// or read as its coupling ([`super::likelihood_probe`]).
     pub added_mass_probe: Option<super::AddedMassProbe>,
     /// Every round, the first (no state effect) first.
     pub rounds: Vec<RefitRound>,
