@@ -221,4 +221,15 @@ fn the_final_bias_time_is_the_most_likely_on_the_grid() {
     };
     let (best, start) = (ll(chosen), ll(used));
     assert!(best.is_finite() && best >= start, "{best} < {start}");
+    // The scored variant chooses the same noise and returns the
+    // likelihood at it exactly (callers use it instead of a second pass).
+    let (again, scored) = omniad_acquire::reconstruct::schedule::most_likely_bias_time_scored(
+        &set,
+        &out.model,
+        used,
+        &cfg.filter,
+    )
+    .expect("likelihood");
+    assert_eq!(again.bias_time.to_bits(), chosen.bias_time.to_bits());
+    assert_eq!(scored.map(f64::to_bits), Some(best.to_bits()));
 }

@@ -497,6 +497,15 @@ fn added_mass_without_acceleration_reaction_is_the_coupling() {
         "{r:#}"
     );
     assert!(!names.iter().any(|n| n == "added_mass"), "{names:?}");
+    // The markers' likelihood judged the coupling against added mass and
+    // kept it: the rounds start from the coupling's refinement, which the
+    // probe made (the path that reuses it rather than fitting it again).
+    let probe = &r["refit"]["added_mass_probe"];
+    assert!(probe["chosen"].is_null(), "{probe:#}");
+    assert!(
+        probe["rival"]["log_likelihood"].as_f64().is_some(),
+        "{probe:#}"
+    );
     let kept = r["candidates"]
         .as_array()
         .expect("candidates")

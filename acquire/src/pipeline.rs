@@ -21,7 +21,7 @@ use crate::reconstruct::first::{first, LeftOut};
 use crate::reconstruct::forces::{ForceStats, Sample};
 use crate::reconstruct::noise::{initial_noise, next_noise, ProcessNoise};
 use crate::reconstruct::run::{samples_in_wind, Progress, TakeModels};
-use crate::reconstruct::schedule::most_likely_bias_time;
+use crate::reconstruct::schedule::most_likely_bias_time_scored;
 use omniad_core::Coefficients;
 use provenance::{fill_provenance, total_stats};
 use std::time::Instant;
@@ -487,7 +487,7 @@ fn diverged(report: &IterationReport, set: &RecordingSet, smoothed: &[Smoothed])
 /// The noise the filter should use after `outcome` (for a final
 /// reconstruction): the last kept iteration's, with the unexplained
 /// wrench's correlation time chosen by maximum innovation likelihood
-/// ([`most_likely_bias_time`]; the refinement iterations keep
+/// ([`crate::reconstruct::schedule::most_likely_bias_time`]; the refinement iterations keep
 /// `BIAS_TIME_SCALES``·τ`, whose slow decay bounds the depth drift that
 /// would otherwise pass into the fitted forces).
 pub fn final_noise(
@@ -495,6 +495,17 @@ pub fn final_noise(
     outcome: &FitOutcome,
     cfg: &FitConfig,
 ) -> Result<ProcessNoise> {
+    Ok(final_noise_scored(set, outcome, cfg)?.0)
+}
+
+/// [`final_noise`] with the markers' innovation log-likelihood at it
+/// ([`most_likely_bias_time_scored`]; `None` when no likelihood was
+/// computed on the way).
+pub fn final_noise_scored(
+    set: &RecordingSet,
+    outcome: &FitOutcome,
+    cfg: &FitConfig,
+) -> Result<(ProcessNoise, Option<f64>)> {
     let first = initial_noise(set);
     let noise = outcome
         .iterations
@@ -509,5 +520,5 @@ pub fn final_noise(
             )
         })
         .unwrap_or(first);
-    most_likely_bias_time(set, &outcome.model, noise, &cfg.filter)
+    most_likely_bias_time_scored(set, &outcome.model, noise, &cfg.filter)
 }

@@ -40,16 +40,28 @@ pub fn most_likely_bias_time(
     noise: ProcessNoise,
     cfg: &FilterConfig,
 ) -> Result<ProcessNoise> {
+    Ok(most_likely_bias_time_scored(set, model, noise, cfg)?.0)
+}
+
+/// [`most_likely_bias_time`] with the log-likelihood of the noise it chose
+/// (`None` when it chose none of the candidates: `noise` kept), so that a
+/// caller scoring the model at that noise need not run the filter again.
+pub fn most_likely_bias_time_scored(
+    set: &RecordingSet,
+    model: &Coefficients<f64>,
+    noise: ProcessNoise,
+    cfg: &FilterConfig,
+) -> Result<(ProcessNoise, Option<f64>)> {
     if !noise.bias_time.is_finite() || noise.bias_time <= 0.0 {
-        return Ok(noise);
+        return Ok((noise, None));
     }
-    let mut best = (f64::NEG_INFINITY, noise);
+    let mut best = (None, noise);
     for fraction in BIAS_TIME_FRACTIONS {
         let candidate = noise.with_bias_time(noise.bias_time * fraction);
         let ll = log_likelihood(set, model, candidate, cfg)?;
-        if ll > best.0 {
-            best = (ll, candidate);
+        if ll > best.0.unwrap_or(f64::NEG_INFINITY) {
+            best = (Some(ll), candidate);
         }
     }
-    Ok(best.1)
+    Ok((best.1, best.0))
 }

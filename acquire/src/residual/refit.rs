@@ -441,7 +441,21 @@ pub(crate) fn round(
     null: Option<&Option<NullCalibration>>,
     progress: &dyn Progress,
 ) -> Result<Round> {
-    let (outcome, model, p) = prepare(set, cfg, &effects, given, progress)?;
+    let outcome = fit(set, &round_config(cfg, &effects), progress)?;
+    round_on(set, cfg, (effects, outcome), given, null, progress)
+}
+
+/// [`round`] on the refinement `outcome` already made with `effects` in
+/// the process model (with [`round_config`]'s settings).
+fn round_on(
+    set: &RecordingSet,
+    cfg: &FitConfig,
+    (effects, outcome): (StateEffects, FitOutcome),
+    given: Option<&Coefficients<f64>>,
+    null: Option<&Option<NullCalibration>>,
+    progress: &dyn Progress,
+) -> Result<Round> {
+    let (model, p) = problems_of(set, &outcome, given, &[], progress)?;
     let null = match null {
         Some(n) => n.clone(),
         None => calibrate(set, cfg, &outcome, &model, given, progress),
@@ -549,6 +563,10 @@ pub(crate) fn run(
         let base = round_config(cfg, &StateEffects::default());
         likelihood_probe::probe(set, &base, &first, d, progress)
     });
+    let (probed, mut rival_outcome) = match probed {
+        Some(p) => (Some(p.report), p.rival_outcome),
+        None => (None, None),
+    };
     if let (Some(e), Some(d)) = (probed.as_ref().and_then(AddedMassProbe::effect), doubt) {
         trial = StateEffects {
             wind: None,
@@ -570,7 +588,20 @@ pub(crate) fn run(
     let mut reference = markers::per_take(set, &first.outcome.reconstruction, pose_noise);
     let names: Vec<&str> = set.takes.iter().map(|t| t.name.as_str()).collect();
     while !trial.is_empty() && refit.refits < MAX_REFITS {
-        let r = round(set, cfg, trial.clone(), given, Some(&first.null), progress)?;
+        // The probe refined the rival, which is then `trial`, with this
+        // round's settings: its refinement is this round's.
+        let outcome = match rival_outcome.take() {
+            Some(o) => o,
+            None => fit(set, &round_config(cfg, &trial), progress)?,
+        };
+        let r = round_on(
+            set,
+            cfg,
+            (trial.clone(), outcome),
+            given,
+            Some(&first.null),
+            progress,
+        )?;
         refit.refits += 1;
         let now = per_take(&r);
         let now_fit = markers::per_take(set, &r.outcome.reconstruction, pose_noise);

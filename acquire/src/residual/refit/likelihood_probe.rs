@@ -44,7 +44,7 @@ use super::proposal::Doubt;
 use super::Round;
 use crate::error::Result;
 use crate::input::recording::RecordingSet;
-use crate::pipeline::{final_noise, fit, FitConfig, FitOutcome};
+use crate::pipeline::{final_noise_scored, fit, FitConfig, FitOutcome};
 use crate::reconstruct::run::{Progress, Silent};
 use crate::reconstruct::schedule::log_likelihood;
 use nalgebra::{Matrix3, SymmetricEigen};
@@ -128,20 +128,38 @@ pub fn shape_added_mass(mass: f64, inertia: &Matrix3<f64>, rho: f64) -> Option<[
 }
 
 /// The markers' innovation log-likelihood of a refinement, at its own
-/// final noise (the noise its reconstruction would use).
+/// final noise (the noise its reconstruction would use; choosing that
+/// noise already scored it, unless it had no correlation time to choose).
 fn scored(set: &RecordingSet, cfg: &FitConfig, outcome: &FitOutcome) -> Option<f64> {
-    let noise = final_noise(set, outcome, cfg).ok()?;
-    log_likelihood(set, &outcome.model, noise, &cfg.filter)
-        .ok()
-        .filter(|v| v.is_finite())
+    let (noise, chosen) = final_noise_scored(set, outcome, cfg).ok()?;
+    let ll = match chosen {
+        Some(ll) => ll,
+        None => log_likelihood(set, &outcome.model, noise, &cfg.filter).ok()?,
+    };
+    ll.is_finite().then_some(ll)
 }
 
-/// The log-likelihood of a refinement with `effects` in the process model.
-fn refined(set: &RecordingSet, base: &FitConfig, effects: Vec<Effect<f64>>) -> Option<f64> {
+/// A refinement with `effects` in the process model and its
+/// log-likelihood (`None`: the refinement failed).
+fn refined(
+    set: &RecordingSet,
+    base: &FitConfig,
+    effects: Vec<Effect<f64>>,
+) -> Option<(FitOutcome, Option<f64>)> {
     let mut cfg = base.clone();
     cfg.effects = effects;
     let outcome: Result<FitOutcome> = fit(set, &cfg, &Silent);
-    outcome.ok().and_then(|o| scored(set, &cfg, &o))
+    let outcome = outcome.ok()?;
+    let ll = scored(set, &cfg, &outcome);
+    Some((outcome, ll))
+}
+
+/// The probe's report, and the rival's refinement when the probe chose no
+/// added mass: the rounds then start from the rival, and its first round
+/// is that refinement (the same settings), not fitted again.
+pub(super) struct Probed {
+    pub report: AddedMassProbe,
+    pub rival_outcome: Option<FitOutcome>,
 }
 
 /// Runs the probe on `set` from the first round `first` (its refinement is
@@ -153,16 +171,19 @@ pub(super) fn probe(
     first: &Round,
     doubt: &Doubt,
     progress: &dyn Progress,
-) -> Option<AddedMassProbe> {
+) -> Option<Probed> {
     let shape = shape_added_mass(set.object.mass, &set.object.inertia, set.world.air_density)?;
     let runs = SCALES.len() + 1 + usize::from(doubt.rival.is_some());
     progress.stage("residual: added mass by the markers' likelihood", runs);
     let mut scales = vec![0.0];
     let mut ll = vec![scored(set, base, &first.outcome)];
     progress.tick();
+    let mut rival_outcome = None;
     let rival = doubt.rival.as_ref().map(|r| {
-        let log_likelihood = refined(set, base, r.effects.clone());
+        let run = refined(set, base, r.effects.clone());
         progress.tick();
+        let log_likelihood = run.as_ref().and_then(|(_, ll)| *ll);
+        rival_outcome = run.map(|(o, _)| o);
         Rival {
             effects: r.effects.iter().map(|e| e.kind.name()).collect(),
             log_likelihood,
@@ -173,17 +194,20 @@ pub(super) fn probe(
         let am = Effect::new(EffectKind::AddedMass, &p);
         let effects = doubt.others.iter().copied().chain(am).collect();
         scales.push(s);
-        ll.push(refined(set, base, effects));
+        ll.push(refined(set, base, effects).and_then(|(_, ll)| ll));
         progress.tick();
     }
     let beat = rival.as_ref().map(|r| r.log_likelihood);
     let chosen = choose(&scales, &ll, beat);
-    Some(AddedMassProbe {
-        shape,
-        scales,
-        log_likelihood: ll,
-        rival,
-        chosen,
+    Some(Probed {
+        report: AddedMassProbe {
+            shape,
+            scales,
+            log_likelihood: ll,
+            rival,
+            chosen,
+        },
+        rival_outcome: rival_outcome.filter(|_| chosen.is_none()),
     })
 }
 
