@@ -178,9 +178,7 @@ fn summarise(
         .fold(f64::INFINITY, f64::min);
     let max_spin = half.iter().map(|s| s.spin).fold(0.0, f64::max);
     let rms_spin = (half.iter().map(|s| s.spin * s.spin).sum::<f64>() / n).sqrt();
-    let roll =
-        |f: fn(f64, f64) -> f64, init: f64| half.iter().map(|s| s.attitude_deg[0]).fold(init, f);
-    let roll_amplitude = (roll(f64::max, f64::NEG_INFINITY) - roll(f64::min, f64::INFINITY)) / 2.0;
+    let roll_amplitude = roll_amplitude(half.iter().map(|s| s.attitude_deg[0]));
     let mean_tension = trace.iter().map(|s| s.tension).sum::<f64>() / trace.len().max(1) as f64;
     let max_tension = trace.iter().map(|s| s.tension).fold(0.0, f64::max);
     let settled = crate::flight_step::within_limits(min_elevation, max_spin);
@@ -215,6 +213,26 @@ fn summarise(
         max_tension,
         trace,
     }
+}
+
+/// Half the range of the roll angle (degrees, the trace's Euler roll in
+/// (-180°, 180°]) followed continuously from sample to sample: a kite
+/// resting rolled near 180° swings across the ±180° cut, which as read
+/// would be a range of 360°. 0 for no samples.
+fn roll_amplitude(rolls: impl Iterator<Item = f64>) -> f64 {
+    let mut rolls = rolls.filter(|r| r.is_finite());
+    let Some(first) = rolls.next() else {
+        return 0.0;
+    };
+    let (mut last, mut unwrapped) = (first, first);
+    let (mut low, mut high) = (first, first);
+    for r in rolls {
+        unwrapped += (r - last + 540.0).rem_euclid(360.0) - 180.0;
+        last = r;
+        low = low.min(unwrapped);
+        high = high.max(unwrapped);
+    }
+    (high - low) / 2.0
 }
 
 /// Why an aloft kite did not count as flying: what it did over the second
@@ -261,4 +279,24 @@ pub fn render(r: &FlightReport) -> String {
         "kite {:?}: {outcome} ({:.1} s simulated, gust {} m/s, seed {})\n  second half: mean line elevation {:.1} deg, lowest {:.1} deg, largest |Omega| {:.2} rad/s\n  lowest height {:.2} m; tension mean {:.2} N, max {:.2} N",
         r.name, r.seconds, r.gust, r.seed, r.mean_elevation_deg, r.min_elevation_deg, r.max_spin, r.min_height, r.mean_tension, r.max_tension
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::roll_amplitude;
+
+    /// A roll swinging ±10° reads 10°; one resting near 180° across the
+    /// ±180° cut reads its own small swing, not 180°; a whole turn reads
+    /// 180°.
+    #[test]
+    fn the_roll_is_followed_across_the_cut() {
+        let swing = [-10.0, 0.0, 10.0, 0.0, -10.0];
+        assert!((roll_amplitude(swing.into_iter()) - 10.0).abs() < 1e-12);
+        let inverted = [175.0, 179.0, -178.0, -174.0, 178.0];
+        let a = roll_amplitude(inverted.into_iter());
+        assert!((a - 5.5).abs() < 1e-9, "{a}");
+        let turn = [0.0, 90.0, 180.0, -90.0, 0.0];
+        assert!((roll_amplitude(turn.into_iter()) - 180.0).abs() < 1e-9);
+        assert_eq!(roll_amplitude(std::iter::empty()), 0.0);
+    }
 }
