@@ -559,10 +559,9 @@ pub(crate) fn run(
     // An added mass the first states hide, or read as its coupling: the
     // markers' likelihood judges ([`likelihood_probe`]).
     let doubt = in_doubt(&first, &trial).filter(|_| given.is_none());
-    let probed = doubt.as_ref().and_then(|d| {
-        let base = round_config(cfg, &StateEffects::default());
-        likelihood_probe::probe(set, &base, &first, d, progress)
-    });
+    let probed = doubt
+        .as_ref()
+        .and_then(|d| likelihood_probe::probe(set, cfg, &first, d, progress));
     let (probed, mut rival_outcome) = match probed {
         Some(p) => (Some(p.report), p.rival_outcome),
         None => (None, None),

@@ -41,7 +41,8 @@
 //! neither reading is significant there.
 
 use super::proposal::Doubt;
-use super::Round;
+use super::state::StateEffects;
+use super::{round_config, Round};
 use crate::error::Result;
 use crate::input::recording::RecordingSet;
 use crate::pipeline::{final_noise_scored, fit, FitConfig, FitOutcome};
@@ -139,35 +140,36 @@ fn scored(set: &RecordingSet, cfg: &FitConfig, outcome: &FitOutcome) -> Option<f
     ll.is_finite().then_some(ll)
 }
 
-/// A refinement with `effects` in the process model and its
-/// log-likelihood (`None`: the refinement failed).
+/// A refit round's refinement with `effects` in the process model (the
+/// round's own settings, [`super::round_config`]) and its log-likelihood
+/// (`None`: the refinement failed).
 fn refined(
     set: &RecordingSet,
-    base: &FitConfig,
-    effects: Vec<Effect<f64>>,
+    cfg: &FitConfig,
+    effects: &StateEffects,
 ) -> Option<(FitOutcome, Option<f64>)> {
-    let mut cfg = base.clone();
-    cfg.effects = effects;
-    let outcome: Result<FitOutcome> = fit(set, &cfg, &Silent);
+    let round = round_config(cfg, effects);
+    let outcome: Result<FitOutcome> = fit(set, &round, &Silent);
     let outcome = outcome.ok()?;
-    let ll = scored(set, &cfg, &outcome);
+    let ll = scored(set, &round, &outcome);
     Some((outcome, ll))
 }
 
 /// The probe's report, and the rival's refinement when the probe chose no
 /// added mass: the rounds then start from the rival, and its first round
-/// is that refinement (the same settings), not fitted again.
+/// is that refinement (made by the same [`super::round_config`] of the
+/// same effects), not fitted again.
 pub(super) struct Probed {
     pub report: AddedMassProbe,
     pub rival_outcome: Option<FitOutcome>,
 }
 
 /// Runs the probe on `set` from the first round `first` (its refinement is
-/// the scale-0 one) and the reading in doubt, with `base` the first
-/// round's fit settings.
+/// the scale-0 one) and the reading in doubt, with `cfg` the residual
+/// analysis's fit settings.
 pub(super) fn probe(
     set: &RecordingSet,
-    base: &FitConfig,
+    cfg: &FitConfig,
     first: &Round,
     doubt: &Doubt,
     progress: &dyn Progress,
@@ -176,11 +178,12 @@ pub(super) fn probe(
     let runs = SCALES.len() + 1 + usize::from(doubt.rival.is_some());
     progress.stage("residual: added mass by the markers' likelihood", runs);
     let mut scales = vec![0.0];
-    let mut ll = vec![scored(set, base, &first.outcome)];
+    let first_cfg = round_config(cfg, &StateEffects::default());
+    let mut ll = vec![scored(set, &first_cfg, &first.outcome)];
     progress.tick();
     let mut rival_outcome = None;
     let rival = doubt.rival.as_ref().map(|r| {
-        let run = refined(set, base, r.effects.clone());
+        let run = refined(set, cfg, r);
         progress.tick();
         let log_likelihood = run.as_ref().and_then(|(_, ll)| *ll);
         rival_outcome = run.map(|(o, _)| o);
@@ -192,9 +195,12 @@ pub(super) fn probe(
     for s in SCALES {
         let p: Vec<f64> = shape.iter().map(|m| s * m).collect();
         let am = Effect::new(EffectKind::AddedMass, &p);
-        let effects = doubt.others.iter().copied().chain(am).collect();
+        let effects = StateEffects {
+            wind: None,
+            effects: doubt.others.iter().copied().chain(am).collect(),
+        };
         scales.push(s);
-        ll.push(refined(set, base, effects).and_then(|(_, ll)| ll));
+        ll.push(refined(set, cfg, &effects).and_then(|(_, ll)| ll));
         progress.tick();
     }
     let beat = rival.as_ref().map(|r| r.log_likelihood);
