@@ -14,7 +14,11 @@
 //! Held-out seeds (kv2's method, BENCHMARKS issue 17): `SEEDS=12` flies
 //! seeds 1-12 and adds, per seed triple (1-3, 4-6, ...), the design-level
 //! disagreements (verdict `stable` against "flies on all three seeds of
-//! the triple"). `FLIGHTS=FILE` keeps each flight's outcome in FILE (one
+//! the triple"), how many of them a verdict could have avoided (refused
+//! but flies on all three, or `stable` but crashes on all three), how
+//! many variants' seeds split within the triple (read flight by flight,
+//! no verdict agrees with all three), and the flights that disagree.
+//! `FLIGHTS=FILE` keeps each flight's outcome in FILE (one
 //! `name<TAB>variant<TAB>seed<TAB>outcome` line), so a second run with a
 //! changed verdict flies nothing again (the flights do not depend on it).
 
@@ -77,6 +81,31 @@ fn variants(d: &Design) -> anyhow::Result<Vec<(String, Design)>> {
     Ok(out)
 }
 
+/// One seed triple's tally over the variants (`SEEDS` > 3).
+#[derive(Clone, Copy, Debug, Default)]
+struct Triple {
+    /// Verdict `stable` against "flies on all three".
+    design: usize,
+    /// Errors a verdict could have avoided: refused but flies on all
+    /// three, or `stable` but crashes on all three.
+    avoidable: usize,
+    /// Variants whose three flights differ among themselves: read flight
+    /// by flight, every verdict disagrees with one of them.
+    split: usize,
+    /// Flights whose outcome differs from the verdict.
+    flights: usize,
+}
+
+impl Triple {
+    fn add(&mut self, stable: bool, flew: &[bool]) {
+        let (all, none) = (flew.iter().all(|f| *f), flew.iter().all(|f| !*f));
+        self.design += usize::from(all != stable);
+        self.avoidable += usize::from((stable && none) || (!stable && all));
+        self.split += usize::from(!all && !none);
+        self.flights += flew.iter().filter(|f| **f != stable).count();
+    }
+}
+
 /// Flight outcomes by `name\tvariant\tseed`.
 type Cache = std::collections::BTreeMap<String, String>;
 
@@ -120,7 +149,7 @@ fn main() -> anyhow::Result<()> {
     let seeds: u64 = std::env::var("SEEDS").map_or(Ok(3), |s| s.parse())?;
     let cache_path = std::env::var_os("FLIGHTS").map(std::path::PathBuf::from);
     let mut cache = load_cache(cache_path.as_deref())?;
-    let mut triples = vec![0usize; (seeds / 3) as usize];
+    let mut triples = vec![Triple::default(); (seeds / 3) as usize];
     let library = Library::load(&omniad_kite::library::default_dir())?;
     let (mut total, mut bad, mut stable, mut flies) = (0, 0, 0, 0);
     for path in &files {
@@ -158,10 +187,9 @@ fn main() -> anyhow::Result<()> {
                 }
                 row += &format!(" {outcome:<8}{}", if agree { " " } else { "*" });
             }
-            for (t, chunk) in flew.chunks(3).enumerate() {
-                let all = chunk.len() == 3 && chunk.iter().all(|f| *f);
+            for (t, chunk) in flew.chunks_exact(3).enumerate() {
                 if let Some(n) = triples.get_mut(t) {
-                    *n += usize::from(all != (verdict == "stable"));
+                    n.add(verdict == "stable", chunk);
                 }
             }
             println!("{row}");
@@ -169,7 +197,20 @@ fn main() -> anyhow::Result<()> {
     }
     println!("{bad} of {total} flights disagree ({stable} called stable, {flies} flew)");
     if seeds > 3 {
-        println!("design-level disagreements per seed triple (1-3, 4-6, ...): {triples:?}");
+        let column = |f: fn(&Triple) -> usize| triples.iter().map(f).collect::<Vec<_>>();
+        println!(
+            "design-level disagreements per seed triple (1-3, 4-6, ...): {:?}",
+            column(|t| t.design)
+        );
+        println!("  of which avoidable: {:?}", column(|t| t.avoidable));
+        println!(
+            "variants whose seeds split within the triple: {:?}",
+            column(|t| t.split)
+        );
+        println!(
+            "flights that disagree per triple: {:?}",
+            column(|t| t.flights)
+        );
     }
     if let Some(path) = cache_path {
         let text: String = cache.iter().map(|(k, v)| format!("{k}\t{v}\n")).collect();
