@@ -64,6 +64,11 @@ pub struct Common {
     /// takes, as `omniad fit`).
     #[arg(long, value_parser = clap::value_parser!(u8).range(0..=12))]
     pub torque_degree: Option<u8>,
+    /// The final torque fit's window: the mean equations of every other
+    /// frame over 2M-1 frames about each frame (`fit::torque_window`;
+    /// default 3; 1: each frame alone).
+    #[arg(long, value_parser = clap::value_parser!(u16).range(1..=15))]
+    pub torque_window: Option<u16>,
     /// Order p of the smoothness penalty (default: cross-validated).
     #[arg(long)]
     pub order: Option<u32>,
@@ -164,6 +169,7 @@ impl Common {
             cross_fit: self.cross_fit,
             degree: self.degree,
             torque_degree: self.torque_degree,
+            torque_window: self.torque_window.map(usize::from),
             order: self.order,
             per_take: self.per_take,
             dump: self.dump.clone(),

@@ -36,6 +36,10 @@ pub struct LsqConfig {
     /// (within the core's maximum), chosen by the held-out takes' torque
     /// error (`crate::fit::torque::refit_final_torque`).
     pub torque_degree: Option<usize>,
+    /// Half-width `m` of the windows the final torque fit takes its frames
+    /// in ([`crate::fit::torque_window`]; 1: each frame alone; default
+    /// [`crate::fit::torque_window::FINAL_TORQUE_WINDOW`]).
+    pub torque_window: usize,
 }
 
 impl Default for LsqConfig {
@@ -49,6 +53,7 @@ impl Default for LsqConfig {
             damping_floor: 1e-3,
             thrust_margin: 1e-3,
             torque_degree: None,
+            torque_window: crate::fit::torque_window::FINAL_TORQUE_WINDOW,
         }
     }
 }

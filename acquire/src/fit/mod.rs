@@ -25,4 +25,5 @@ pub mod smoothing;
 pub(crate) mod thrust;
 pub(crate) mod torque;
 pub(crate) mod torque_prior;
+pub(crate) mod torque_window;
 pub(crate) mod weights;

@@ -11,6 +11,7 @@ use crate::fit::model::with_torque;
 use crate::fit::normals::{per_take, solve, total, Normals, Rows};
 use crate::fit::smoothing::{cross_validated, regularise, Smoothing, SMOOTHNESS_ORDERS};
 use crate::fit::torque_prior::{beta_of, pin_prior, prior_map, with_prior};
+use crate::fit::torque_window::windowed_normals;
 use crate::reconstruct::forces::Sample;
 use nalgebra::{DMatrix, DVector, Vector3};
 use omniad_core::sh::{coeff_count, MAX_DEGREE};
@@ -186,7 +187,9 @@ pub(crate) fn solve_torque(
 /// finer angular resolution than its force (openbox-clean: degree 10
 /// took the true states' C_T from 9.6 to 5.8 %, BENCHMARKS.md issue 20,
 /// C_T stop 20); the held-out takes, not the truth, say whether the data
-/// carry it.
+/// carry it. Its frames are taken in windows of `cfg.torque_window`
+/// ([`crate::fit::torque_window`]: the mean of every other frame's
+/// equations about each frame, where the samples' errors telescope).
 pub fn refit_final_torque(
     model: &Coefficients<f64>,
     samples: &[Sample],
@@ -248,7 +251,7 @@ fn best_torque_at_degree(
     ctx: &FitContext,
     cfg: &LsqConfig,
 ) -> (f64, TorqueSolution) {
-    let (takes, total) = torque_normals(samples, ctx, cfg.degree, TorqueFrames::NoThrust);
+    let (takes, total) = final_normals(samples, ctx, cfg);
     let (plain, smoothing) = torque_penalty_scored(&takes, &total, cfg);
     let mut best = (plain, None);
     for k in PRIOR_DEGREES {
@@ -261,6 +264,17 @@ fn best_torque_at_degree(
         Some((p, total, (_, sm))) => (best.0, TorqueSolution::Prior(p, total, sm)),
         None => (best.0, TorqueSolution::Plain(total, smoothing)),
     }
+}
+
+/// The final torque fit's normal equations: on the windows of
+/// `cfg.torque_window` frames ([`crate::fit::torque_window`]), or on each
+/// frame when that is 1 or the frames are not runs that have windows.
+fn final_normals(samples: &[Sample], ctx: &FitContext, cfg: &LsqConfig) -> (Vec<Normals>, Normals) {
+    let which = TorqueFrames::NoThrust;
+    (cfg.torque_window > 1)
+        .then(|| windowed_normals(samples, ctx, cfg.degree, which, cfg.torque_window))
+        .flatten()
+        .unwrap_or_else(|| torque_normals(samples, ctx, cfg.degree, which))
 }
 
 /// Degrees `K` of the centre of pressure `ρ̂(E)` the final torque fit

@@ -72,6 +72,8 @@ pub struct Knobs {
     pub degree: Option<u8>,
     /// `LsqConfig::torque_degree`: the final torque fit's N_T, forced.
     pub torque_degree: Option<u8>,
+    /// `LsqConfig::torque_window`: the final torque fit's window, forced.
+    pub torque_window: Option<usize>,
     /// `LsqConfig::smoothness_order`.
     pub order: Option<u32>,
     /// Per-take errors of the last iteration too (accept).
@@ -122,6 +124,9 @@ impl Knobs {
         }
         if let Some(d) = self.torque_degree {
             cfg.lsq.torque_degree = Some(usize::from(d));
+        }
+        if let Some(m) = self.torque_window {
+            cfg.lsq.torque_window = m;
         }
         if let Some(p) = self.order {
             cfg.lsq.smoothness_order = Some(p);
