@@ -38,9 +38,14 @@ pub struct LsqConfig {
     pub torque_degree: Option<usize>,
     /// Half-width `m` of the windows the final torque fit takes its frames
     /// in ([`crate::fit::torque_window`]; 1: each frame alone; default
-    /// [`crate::fit::torque_window::FINAL_TORQUE_WINDOW`]).
+    /// [`FINAL_TORQUE_WINDOW`]).
     pub torque_window: usize,
 }
+
+/// The final torque fit's window half-width `m`
+/// ([`crate::fit::torque_window`]): 2 gained less than 3 on the six sets it
+/// was chosen on, 4-5 no more, 7 lost (BENCHMARKS.md, issue 20, stop 34).
+pub const FINAL_TORQUE_WINDOW: usize = 3;
 
 impl Default for LsqConfig {
     fn default() -> Self {
@@ -53,7 +58,7 @@ impl Default for LsqConfig {
             damping_floor: 1e-3,
             thrust_margin: 1e-3,
             torque_degree: None,
-            torque_window: crate::fit::torque_window::FINAL_TORQUE_WINDOW,
+            torque_window: FINAL_TORQUE_WINDOW,
         }
     }
 }

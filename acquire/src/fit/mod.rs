@@ -25,5 +25,6 @@ pub mod smoothing;
 pub(crate) mod thrust;
 pub(crate) mod torque;
 pub(crate) mod torque_prior;
+pub(crate) mod torque_rows;
 pub(crate) mod torque_window;
 pub(crate) mod weights;

@@ -14,7 +14,8 @@
 //! worse on every synthetic plate (BENCHMARKS.md, issue 20, stop 34).
 //!
 //!
-//! The final torque fit uses windows of [`FINAL_TORQUE_WINDOW`] = 3 (the
+//! The final torque fit uses windows of
+//! [`crate::fit::config::FINAL_TORQUE_WINDOW`] = 3 (the
 //! refinement's own fits, which steer the reconstruction, keep each frame
 //! alone, so the reconstruction and C_F are untouched). Measured on ten
 //! sets (three shared, seven synthetic on seeds no choice was made on):
@@ -29,15 +30,11 @@
 
 use crate::fit::context::FitContext;
 use crate::fit::normals::{per_take, total, Normals, Rows};
-use crate::fit::torque::{dense_rows, TorqueFrames};
+use crate::fit::torque_rows::{dense_rows, TorqueFrames};
 use crate::reconstruct::forces::Sample;
 use nalgebra::{DMatrix, Vector3};
 use omniad_core::sh::coeff_count;
 use std::collections::HashMap;
-
-/// The final torque fit's window half-width `m` (module doc): 2 gained
-/// less than 3 on the six sets it was chosen on, 4-5 no more, 7 lost.
-pub const FINAL_TORQUE_WINDOW: usize = 3;
 
 /// The torque fit's normal equations per take and in total (unknowns
 /// `(β¹, β², β³, d)`, unweighted) of the windows of half-width `m` about
@@ -127,6 +124,7 @@ impl<'a> Rows for WindowRows<'a> {
 mod tests {
     use super::*;
     use crate::fit::lsq::tests::{degree_six, samples};
+    use crate::fit::torque::tests::torque_coefficient_error;
     use crate::fit::torque::torque_normals;
     use crate::input::recording::TakeKind;
     use crate::synth::{truth_model, ObjectSpec, SynthObject};
@@ -154,20 +152,8 @@ mod tests {
         };
         let (beta, damping) = crate::fit::torque::solve_torque(total, &cfg, exact, None);
         let fitted = crate::fit::model::with_torque(&truth, &beta, &damping).expect("model");
-        let (mut num, mut den) = (0.0, 0.0);
-        for e in omniad_core::quadrature::fibonacci_sphere(200) {
-            let (a, b) = (
-                fitted.at_direction(&e).expect("dir"),
-                truth.at_direction(&e).expect("dir"),
-            );
-            num += (a.torque - b.torque).norm_squared();
-            den += b.torque.norm_squared();
-        }
-        assert!(
-            (num / den).sqrt() < 1e-6,
-            "C_T error {}",
-            (num / den).sqrt()
-        );
+        let error = torque_coefficient_error(&fitted, &truth);
+        assert!(error < 1e-6, "C_T error {error}");
     }
 
     #[test]
