@@ -6,6 +6,8 @@
 //!
 //! * [`physics`]: one evaluation, the batch per body, RK4 body-steps per
 //!   second on one thread and on all cores;
+//! * [`comparison`]: one RK4 step under each model of the core's model
+//!   selector (vacuum, the paper's Fig. 12 comparison models, OmniAD);
 //! * [`fit`]: `omniad fit` of a 13-take synthetic set generated at bench
 //!   time (fixed seed) into a temporary folder;
 //! * the TUI's simulation view, frame by frame, headless
@@ -15,6 +17,7 @@
 //!
 //! Nothing here asserts a time: the suite reports.
 
+pub mod comparison;
 pub mod fit;
 pub mod model;
 pub mod peer;
@@ -38,6 +41,8 @@ pub mod paper {
 pub struct Report {
     /// The physics figures.
     pub physics: physics::Figures,
+    /// One RK4 step under each model of the core's selector.
+    pub models: Vec<comparison::ModelStep>,
     /// `omniad fit` wall time, s (or why it was not measured).
     pub fit_seconds: Result<f64, String>,
     /// MuJoCo's figure measured in this run (or why not).
@@ -50,6 +55,7 @@ pub struct Report {
 /// iteration is *not* done: the fit is always the 3-iteration one).
 pub fn run(quick: bool) -> Report {
     let physics = physics::measure(quick);
+    let models = comparison::measure(quick);
     let fit_seconds = fit::measure();
     let peer = peer::measure(quick);
     let mut frames = omniad_tui::frames::FrameBench::default();
@@ -59,6 +65,7 @@ pub fn run(quick: bool) -> Report {
     let tui = omniad_tui::frames::measure(frames);
     Report {
         physics,
+        models,
         fit_seconds,
         peer,
         tui,

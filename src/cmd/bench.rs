@@ -54,6 +54,11 @@ fn report(r: &Report) -> Value {
         }),
         Err(_) => Value::Null,
     };
+    let models: serde_json::Map<String, Value> = r
+        .models
+        .iter()
+        .map(|m| (m.kind.name().to_string(), json!(m.rk4_ns)))
+        .collect();
     json!({
         "eval_single_ns": p.eval_single_ns,
         "eval_batch_ns": p.eval_batch_ns,
@@ -61,6 +66,7 @@ fn report(r: &Report) -> Value {
         "eval_batch_f64_ns": p.eval_batch_f64_ns,
         "batch_over_single": p.eval_batch_ns / p.eval_single_ns,
         "rk4_single_ns": p.rk4_single_ns,
+        "rk4_step_ns_by_model": models,
         "body_steps_per_second_per_thread": p.body_steps_per_second_per_thread,
         "body_steps_per_second_all_cores": p.body_steps_per_second_all_cores,
         "threads": p.threads,
@@ -100,6 +106,15 @@ fn summary(r: &Report) {
     println!(
         "RK4 step, one body, f64               {:>9.1} ns",
         p.rk4_single_ns
+    );
+    let per_model: Vec<String> = r
+        .models
+        .iter()
+        .map(|m| format!("{} {:.0}", m.kind.name(), m.rk4_ns))
+        .collect();
+    println!(
+        "RK4 step, one body, per model (ns, the paper's plate): {}",
+        per_model.join(", ")
     );
     println!(
         "RK4 body-steps/s, one thread, f64     {:>9.0}",

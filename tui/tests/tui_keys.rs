@@ -203,11 +203,24 @@ fn simulation_runs_on_ticks_only_when_started() {
     keys(&mut app, "DsW");
     assert!(app.sim.params.air_density > rho);
     assert!(app.sim.params.size < 1.0 && app.sim.params.mass_scale > 1.0);
+    let label = |app: &App| app.sim.current().map(|a| a.label());
+    let first = label(&app);
+    for want in [
+        "isotropic drag",
+        "vacuum (Fig. 12)",
+        "kirchhoff (Fig. 12)",
+        "drag-traction (Fig. 12)",
+        "simplified (Fig. 12)",
+    ] {
+        keys(&mut app, "o");
+        assert_eq!(label(&app).as_deref(), Some(want));
+        let t = app.sim.world.time;
+        keys(&mut app, ".");
+        assert!(app.sim.world.time > t && !app.sim.no_shape, "{want} steps");
+        assert!(app.sim.world.bodies.iter().all(|s| s.is_finite()));
+    }
     keys(&mut app, "o");
-    assert_eq!(
-        app.sim.current().map(|m| m.label.as_str()),
-        Some("isotropic drag")
-    );
+    assert_eq!(label(&app), first, "o cycles back to the OmniAD model");
     let n = app.sim.world.bodies.len();
     keys(&mut app, "+");
     assert_eq!(app.sim.world.bodies.len(), 2 * n);

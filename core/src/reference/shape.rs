@@ -55,6 +55,10 @@ pub struct Element {
 /// grid), enough for the rotational damping integral to within ~1 %.
 pub const GRID: usize = 8;
 
+/// The largest thickness, relative to its largest extent, of a body that
+/// [`Shape::of_body`] calls a plate: the paper's foam plate is 0.04.
+pub const PLATE_THINNESS: f64 = 0.1;
+
 impl Shape {
     /// The paper's foam plate (§8): 30 x 50 x 2 cm, 48 g.
     pub const PAPER_PLATE: Shape = Shape {
@@ -68,6 +72,39 @@ impl Shape {
     pub fn inertia(&self) -> Matrix3<f64> {
         let s = self.size.component_mul(&self.size) * (self.mass / 12.0);
         Matrix3::from_diagonal(&Vector3::new(s.y + s.z, s.x + s.z, s.x + s.y))
+    }
+
+    /// The uniform solid box with a body's `mass` (kg) and moments of
+    /// inertia `moments` (kg m², about body x, y, z): the inverse of
+    /// [`Self::inertia`], `x² = 6 (I_yy + I_zz - I_xx) / M` and cyclic (the
+    /// body's equivalent box; for a uniform plate or box, the shape itself).
+    /// A [`ShapeKind::Plate`] when z is its thinnest extent and at most
+    /// [`PLATE_THINNESS`] of the largest (a plate's faces lie in x-y).
+    /// `None` when the moments are not those of a box (one exceeds the sum
+    /// of the other two: no mass distribution has such moments) or any
+    /// number is not finite and positive. Only the moments along the axes
+    /// are used: products of inertia are not a shape's.
+    pub fn of_body(mass: f64, moments: &Vector3<f64>) -> Option<Shape> {
+        let (a, b, c) = (moments.x, moments.y, moments.z);
+        let positive = |x: f64| x.is_finite() && x > 0.0;
+        if !(positive(mass) && positive(a) && positive(b) && positive(c)) {
+            return None;
+        }
+        let squared = Vector3::new(b + c - a, a + c - b, a + b - c) * (6.0 / mass);
+        // A lamina's moments give a zero thickness; rounding may make it a
+        // hair negative.
+        let tolerance = 1e-9 * squared.max();
+        if squared.min() < -tolerance {
+            return None;
+        }
+        let size = squared.map(|x| libm::sqrt(x.max(0.0)));
+        let thin = size.z <= size.x.min(size.y) && size.z <= PLATE_THINNESS * size.max();
+        let kind = if thin {
+            ShapeKind::Plate
+        } else {
+            ShapeKind::Box
+        };
+        (size.x > 0.0 && size.y > 0.0).then_some(Shape { kind, size, mass })
     }
 
     /// Reference length L (eq. 3): the bounding-box diagonal, m (as the
@@ -153,6 +190,7 @@ impl Shape {
 
 #[cfg(test)]
 mod tests {
+    #![allow(clippy::expect_used)]
     use super::*;
 
     #[test]
@@ -172,5 +210,38 @@ mod tests {
         let mut plate_area = 0.0;
         Shape::PAPER_PLATE.for_each_element(|e| plate_area += e.area);
         assert!((plate_area - 0.15).abs() < 1e-12);
+    }
+
+    /// The equivalent box of a uniform plate or box is that shape, a plate
+    /// only when thin along z; moments no mass distribution has give none.
+    #[test]
+    fn a_body_gives_back_its_box() {
+        let moments = |s: &Shape| s.inertia().diagonal();
+        let plate = Shape::PAPER_PLATE;
+        let back = Shape::of_body(plate.mass, &moments(&plate)).expect("a plate");
+        assert_eq!(back.kind, ShapeKind::Plate);
+        assert!((back.size - plate.size).norm() < 1e-12);
+        let cube = Shape {
+            kind: ShapeKind::Box,
+            size: Vector3::new(0.2, 0.3, 0.25),
+            mass: 0.5,
+        };
+        let back = Shape::of_body(cube.mass, &moments(&cube)).expect("a box");
+        assert_eq!(back.kind, ShapeKind::Box);
+        assert!((back.size - cube.size).norm() < 1e-12);
+        // Thin along x: a box (a plate's faces are x-y).
+        let edge_on = Shape {
+            size: Vector3::new(0.02, 0.5, 0.3),
+            ..plate
+        };
+        let back = Shape::of_body(plate.mass, &moments(&edge_on)).expect("a box");
+        assert_eq!(back.kind, ShapeKind::Box);
+        // A lamina (zero thickness) is a plate.
+        let lamina = Vector3::new(1.0, 2.0, 3.0) * 1e-4;
+        let back = Shape::of_body(0.1, &lamina).expect("a lamina");
+        assert_eq!((back.kind, back.size.z), (ShapeKind::Plate, 0.0));
+        assert_eq!(Shape::of_body(0.1, &Vector3::new(1.0, 1.0, 5.0)), None);
+        assert_eq!(Shape::of_body(0.0, &Vector3::new(1.0, 1.0, 1.0)), None);
+        assert_eq!(Shape::of_body(0.1, &Vector3::new(f64::NAN, 1.0, 1.0)), None);
     }
 }

@@ -1,12 +1,14 @@
 //! View 3: live simulation of many falling bodies (paper Fig. 14) with
 //! the air density, size and mass/inertia controls, and a switch between
-//! OmniAD and a drag-only comparison model.
+//! OmniAD, a drag-only model and the paper's Fig. 12 comparison models.
 
+pub mod air;
 pub mod tethered;
 pub mod view;
 pub mod world;
 
 use crate::models::Model;
+use air::{Air, COMPARISONS};
 use ratatui::crossterm::event::{KeyCode, KeyEvent};
 use tethered::Tethered;
 use world::{Params, World};
@@ -21,10 +23,14 @@ pub const MAX_COUNT: usize = 25_600;
 /// The simulation view's state.
 #[derive(Clone, Debug)]
 pub struct SimView {
-    /// `[0]` OmniAD, `[1..]` comparison models.
+    /// `[0]` OmniAD, `[1..]` coefficient comparison models; after them
+    /// the view offers [`COMPARISONS`].
     pub models: Vec<Model>,
-    /// Model in use.
+    /// Model in use: an index into `models`, then into [`COMPARISONS`].
     pub model: usize,
+    /// The last frame could not be stepped: the comparison model has no
+    /// shape for this body ([`air::comparison_shape`]).
+    pub no_shape: bool,
     /// The Fig. 14 controls.
     pub params: Params,
     /// The bodies.
@@ -43,6 +49,7 @@ impl SimView {
         Self {
             models,
             model: 0,
+            no_shape: false,
             params: Params::default(),
             world: World::new(DEFAULT_COUNT, SEED),
             running: false,
@@ -52,8 +59,20 @@ impl SimView {
     }
 
     /// The model in use.
-    pub fn current(&self) -> Option<&Model> {
-        self.models.get(self.model)
+    pub fn current(&self) -> Option<Air<'_>> {
+        match self.models.get(self.model) {
+            Some(m) => Some(Air::Coefficients(m)),
+            None => self
+                .model
+                .checked_sub(self.models.len())
+                .and_then(|i| COMPARISONS.get(i))
+                .map(|k| Air::Comparison(*k)),
+        }
+    }
+
+    /// The OmniAD model, whose body every model moves.
+    pub fn main(&self) -> Option<&Model> {
+        self.models.first()
     }
 
     /// Switches between the falling bodies and the kite of `design` on
@@ -70,8 +89,17 @@ impl SimView {
         if let Some(k) = &mut self.kite {
             return k.step_frame();
         }
-        if let Some(m) = self.models.get(self.model) {
-            self.world.step_frame(m, self.params);
+        let (world, params) = (&mut self.world, self.params);
+        match self.models.get(self.model) {
+            Some(m) => world.step_frame(m, params),
+            None => {
+                let kind = self.model.checked_sub(self.models.len());
+                if let (Some(kind), Some(main)) =
+                    (kind.and_then(|i| COMPARISONS.get(i)), self.models.first())
+                {
+                    self.no_shape = !world.step_comparison(*kind, main, params);
+                }
+            }
         }
     }
 
@@ -106,7 +134,10 @@ impl SimView {
             'S' => p.size = (p.size * up).min(10.0),
             'w' => p.mass_scale = (p.mass_scale / up).max(0.05),
             'W' => p.mass_scale = (p.mass_scale * up).min(50.0),
-            'o' => self.model = (self.model + 1) % self.models.len().max(1),
+            'o' => {
+                self.model = (self.model + 1) % (self.models.len() + COMPARISONS.len());
+                self.no_shape = false;
+            }
             '+' | '=' => self.resize(self.world.bodies.len() * 2),
             '-' => self.resize(self.world.bodies.len() / 2),
             '0' => {

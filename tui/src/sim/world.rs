@@ -3,6 +3,8 @@
 
 use crate::models::Model;
 use nalgebra::{Matrix3, Quaternion, UnitQuaternion, Vector3};
+use omniad_core::integrate::rk4_step;
+use omniad_core::model::{Model as AirModel, ModelKind};
 use omniad_core::{Coefficients, Environment, RigidBody, State};
 use omniad_sim::Bodies;
 
@@ -114,6 +116,12 @@ impl World {
         self.lanes.load(&self.bodies);
         self.lanes.step(&coeffs, &body, &env, DT, STEPS_PER_FRAME);
         self.lanes.store(&mut self.bodies);
+        self.finish_frame();
+    }
+
+    /// Advances the clock by a frame and re-spawns at the top the bodies
+    /// that landed or left the field.
+    fn finish_frame(&mut self) {
         self.time += STEPS_PER_FRAME as f64 * DT;
         for i in 0..self.bodies.len() {
             let out = self.bodies.get(i).is_none_or(|n| {
@@ -127,6 +135,39 @@ impl World {
                 }
             }
         }
+    }
+
+    /// Advances one displayed frame under the comparison model `kind` of
+    /// Fig. 12 built on `main`'s body ([`super::air::comparison_shape`]):
+    /// each body by the core's `rk4_step`, the bodies split over the
+    /// cores (independent, so the result does not depend on the thread
+    /// count). Returns false, moving nothing, when the body has no shape.
+    pub fn step_comparison(&mut self, kind: ModelKind, main: &Model, params: Params) -> bool {
+        let (_, body) = scaled(main, params);
+        let env = Environment {
+            air_density: params.air_density,
+            ..Environment::standard()
+        };
+        let Some(shape) = super::air::comparison_shape(main, params) else {
+            return false;
+        };
+        let Ok(air) = AirModel::new(kind, Some(&shape), None, env) else {
+            return false;
+        };
+        let step = |s: &mut State<f64>| {
+            for _ in 0..STEPS_PER_FRAME {
+                *s = rk4_step(&body, &env, &air, 0.0, DT, s);
+            }
+        };
+        let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
+        let chunk = self.bodies.len().div_ceil(threads).max(1);
+        std::thread::scope(|scope| {
+            for part in self.bodies.chunks_mut(chunk) {
+                scope.spawn(move || part.iter_mut().for_each(step));
+            }
+        });
+        self.finish_frame();
+        true
     }
 }
 
