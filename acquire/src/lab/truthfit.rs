@@ -91,7 +91,12 @@ pub fn run(
         let refit = pipeline::fit_samples(&base, &rec_frames, &set, &cfg)?;
         let (e2, _) = force_error(&refit, &truth, &dirs, 20, 15f64.to_radians());
         let ctx = crate::fit::context::FitContext::of_set(&set);
-        let fin = crate::fit::torque::refit_final_torque(&refit, &rec_frames, &ctx, &cfg.lsq_at_degree())?;
+        let fin = crate::fit::torque::refit_final_torque(
+            &refit,
+            &rec_frames,
+            &ctx,
+            &cfg.lsq_at_degree(),
+        )?;
         let (t2, _) = torque_error(&fin, &truth, &tdirs);
         say!(out,
             "walk x{ws} accel x{acc} ang x{ang}: position RMS {:.2} cm, orientation RMS {:.2} deg, refit C_F {:.2} %, final C_T {:.2} %",
