@@ -9,6 +9,7 @@
 use crate::basis::vector_basis;
 use crate::coefficients::{Coefficients, ModelError, SETS};
 use crate::quadrature::sphere_quadrature;
+use crate::rigid_body::{Forces, State};
 use crate::sh::{self, MAX_COEFFS};
 use nalgebra::Vector3;
 
@@ -70,6 +71,32 @@ pub fn project_into(
     Ok(())
 }
 
+/// The steady coefficient functions of any air model `forces` (eqs. 5-8
+/// read backwards), projected as [`project`]: at each direction `E` the
+/// wrench (body frame) on a body at rest in attitude moving at 1 m/s
+/// along `E` (`V = E`, `Ω = 0`, the attitude the identity so body and
+/// world frames agree, no wind), over `½ρL²` (force) and `½ρL³` (torque).
+/// How a comparison model of the paper's Fig. 12 looks on the coefficient
+/// sphere. For a wrench quadratic in the speed (the per-element models)
+/// the speed does not matter; the damping (`Ω ≠ 0`) and any added mass are
+/// not steady coefficients and are left out. `air_density` (kg/m³) must
+/// be the one `forces` was built with, positive.
+pub fn project_steady<F: Forces<f64>>(
+    forces: &F,
+    degree: u8,
+    pole: Vector3<f64>,
+    reference_length: f64,
+    air_density: f64,
+) -> Result<Coefficients<f64>, ModelError> {
+    let q = 0.5 * air_density * reference_length * reference_length;
+    project(degree, pole, reference_length, |e| {
+        let mut state = State::at_rest(Vector3::zeros());
+        state.velocity = *e;
+        let w = forces.wrench(0.0, &state);
+        (w.force / q, w.torque / (q * reference_length))
+    })
+}
+
 #[cfg(test)]
 mod tests {
     #![allow(clippy::unwrap_used)]
@@ -84,5 +111,39 @@ mod tests {
         let c = m.at_direction(&Vector3::new(0.2, -0.5, 0.7)).unwrap();
         let e = Vector3::new(0.2, -0.5, 0.7).normalize();
         assert!((c.force + e).norm() < 1e-9, "{:?}", c.force);
+    }
+
+    /// The steady coefficients of a wrench given as eqs. (5)-(6) of a known
+    /// model are that model's (the scaling by `½ρL²`, `½ρL³` and the
+    /// direction convention are right).
+    #[test]
+    fn steady_projection_gives_back_a_coefficient_model() {
+        use crate::rigid_body::{AirForces, Environment};
+        let l = 0.4;
+        let model = project(4, Vector3::z(), l, |e| {
+            let n = Vector3::z();
+            (
+                -n * (0.8 * e.dot(&n)) - e * 0.1,
+                Vector3::new(0.0, 0.05 * e.x, 0.0),
+            )
+        })
+        .unwrap();
+        let environment = Environment {
+            air_density: 1.3,
+            ..Environment::standard()
+        };
+        let forces = AirForces {
+            model: &model,
+            environment,
+        };
+        let back = project_steady(&forces, 4, Vector3::z(), l, 1.3).unwrap();
+        for e in [Vector3::x(), Vector3::new(0.3, -0.4, 0.8).normalize()] {
+            let (a, b) = (
+                model.at_direction(&e).unwrap(),
+                back.at_direction(&e).unwrap(),
+            );
+            assert!((a.force - b.force).norm() < 1e-9, "{a:?} vs {b:?}");
+            assert!((a.torque - b.torque).norm() < 1e-9, "{a:?} vs {b:?}");
+        }
     }
 }

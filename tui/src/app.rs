@@ -80,7 +80,9 @@ pub struct App {
 impl App {
     /// The app on `models` (first = main model; others compared). With no
     /// models the bundled plate is used; the isotropic-drag model is
-    /// always added as a comparison.
+    /// always added as a comparison, and the sphere view also gets the
+    /// steady coefficients of the paper's per-element comparison models
+    /// on the main model's body ([`models::comparison_spheres`]).
     pub fn new(models: Vec<Model>, theme: Theme) -> Self {
         Self::with_default(models, models::default_model(), theme)
     }
@@ -93,6 +95,7 @@ impl App {
         let main = models.first().cloned().unwrap_or_else(|| default.clone());
         let drag = models::isotropic_drag(&main.coefficients, 0.3);
         models.push(drag.clone());
+        models.extend(models::comparison_spheres(&main.coefficients));
         Self {
             view: ViewId::Sphere,
             help: false,

@@ -3,7 +3,10 @@
 
 use nalgebra::Vector3;
 use omniad_core::coefficients::MassProperties;
-use omniad_core::Coefficients;
+use omniad_core::model::{Model as AirModel, ModelKind};
+use omniad_core::projection::project_steady;
+use omniad_core::reference::shape::Shape;
+use omniad_core::{Coefficients, Environment};
 use std::f64::consts::PI;
 
 /// A named model shown by the views.
@@ -76,6 +79,44 @@ pub fn isotropic_drag(like: &Coefficients<f64>, c: f64) -> Model {
     }
 }
 
+/// The steady coefficient functions of the paper's per-element comparison
+/// models (Fig. 12: drag and traction, simplified lift and drag), built
+/// on the equivalent box of `like`'s body (`Shape::of_body`) in standard
+/// air and projected onto SH of `like`'s degree and `L`
+/// (`omniad_core::projection::project_steady`), so the sphere view can
+/// set them beside the OmniAD model. Kirchhoff's added mass and vacuum
+/// have no steady wrench (their coefficients are zero) and are not
+/// listed. Empty when the body's moments are no box's.
+pub fn comparison_spheres(like: &Coefficients<f64>) -> Vec<Model> {
+    let body = like.body.unwrap_or(PLATE_BODY);
+    let inertia = omniad_core::math::symmetric_from_six(body.inertia);
+    let Some(shape) = Shape::of_body(body.mass, &inertia.diagonal()) else {
+        return Vec::new();
+    };
+    let environment = Environment::standard();
+    [ModelKind::DragTraction, ModelKind::Simplified]
+        .into_iter()
+        .filter_map(|kind| {
+            let air = AirModel::new(kind, Some(&shape), None, environment).ok()?;
+            let mut m = project_steady(
+                &air,
+                like.degree(),
+                like.pole(),
+                like.reference_length(),
+                environment.air_density,
+            )
+            .ok()?;
+            let label = format!("{} (Fig. 12)", kind.name());
+            let _ = m.set_name(&label);
+            m.body = like.body;
+            Some(Model {
+                label,
+                coefficients: m,
+            })
+        })
+        .collect()
+}
+
 fn unit_zeros(degree: u8) -> Coefficients<f64> {
     // Degree <= 6 with a unit pole and a positive L is always valid.
     Coefficients::zeros(degree, Vector3::z(), 0.1).expect("valid constant model")
@@ -123,6 +164,34 @@ mod tests {
         let m = omniad_core::file::decode::<f64>(BUNDLED_PLATE).expect("data/plate.omni decodes");
         assert!(m.at_direction(&Vector3::z()).is_some());
         assert_eq!(default_model().label, "plate.omni (bundled)");
+    }
+
+    /// The projected comparison models of the bundled plate: face-on,
+    /// drag and traction shares the panel model's broadside coefficient,
+    /// so it agrees with the bundled file; the simplified model's force is
+    /// its own curve's drag (Wang et al. 2004) over the plate's area, face-on
+    /// and edge-on (a wrong shape, scale or direction would not be).
+    #[test]
+    fn comparison_spheres_of_the_bundled_plate() {
+        use omniad_core::reference::simplified::drag_coefficient;
+        let plate = default_model().coefficients;
+        let spheres = comparison_spheres(&plate);
+        let labels: Vec<&str> = spheres.iter().map(|m| m.label.as_str()).collect();
+        assert_eq!(labels, ["drag-traction (Fig. 12)", "simplified (Fig. 12)"]);
+        let at = |m: &Coefficients<f64>, e: &Vector3<f64>| {
+            m.at_direction(e).map(|c| c.force).unwrap_or_default()
+        };
+        let (traction, simplified) = (&spheres[0].coefficients, &spheres[1].coefficients);
+        let (face_on, edge_on) = (Vector3::z(), Vector3::x());
+        let near = |got: f64, want: f64| (got / want - 1.0).abs() < 0.03;
+        let (got, want) = (at(traction, &face_on).z, at(&plate, &face_on).z);
+        assert!(near(got, want), "{got} vs {want}");
+        let area_over_l2 = 0.3 * 0.5 / plate.reference_length().powi(2);
+        for (e, sin_a) in [(face_on, 1.0), (edge_on, 0.0)] {
+            let got = at(simplified, &e).dot(&e);
+            let want = -drag_coefficient(sin_a) * area_over_l2;
+            assert!(near(got, want), "{e:?}: {got} vs {want}");
+        }
     }
 
     #[test]

@@ -83,6 +83,31 @@ fn sphere_rotates_probes_and_switches_mode() {
 }
 
 #[test]
+fn the_sphere_compares_with_the_paper_comparison_models() {
+    let mut app = App::demo();
+    let compared = |app: &App| {
+        app.sphere
+            .models
+            .get(app.sphere.compare_with)
+            .map(|m| m.label.clone())
+    };
+    let mut seen = Vec::new();
+    for _ in 0..3 {
+        seen.extend(compared(&app));
+        keys(&mut app, "n");
+    }
+    assert_eq!(
+        seen,
+        [
+            "isotropic drag",
+            "drag-traction (Fig. 12)",
+            "simplified (Fig. 12)"
+        ]
+    );
+    assert_eq!(compared(&app).as_deref(), Some("isotropic drag"));
+}
+
+#[test]
 fn probe_facing_points_at_the_viewer() {
     let mut app = App::demo();
     keys(&mut app, "p");
