@@ -66,8 +66,9 @@ mod tests {
         let t = (frames * STEPS_PER_FRAME) as f64 * DT;
         let descent = |kind| {
             let mut w = start.clone();
+            let shape = comparison_shape(&main, params).expect("a shape");
             for _ in 0..frames {
-                assert!(w.step_comparison(kind, &main, params));
+                assert!(w.step_comparison((kind, &shape), &main, params));
             }
             assert_eq!(w.landed, 0, "no body reaches the ground in {t} s");
             let drops: Vec<f64> = start

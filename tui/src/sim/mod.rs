@@ -97,7 +97,9 @@ impl SimView {
                 if let (Some(kind), Some(main)) =
                     (kind.and_then(|i| COMPARISONS.get(i)), self.models.first())
                 {
-                    self.no_shape = !world.step_comparison(*kind, main, params);
+                    let shape = air::comparison_shape(main, params);
+                    self.no_shape =
+                        !shape.is_some_and(|s| world.step_comparison((*kind, &s), main, params));
                 }
             }
         }

@@ -5,6 +5,7 @@ use crate::models::Model;
 use nalgebra::{Matrix3, Quaternion, UnitQuaternion, Vector3};
 use omniad_core::integrate::rk4_step;
 use omniad_core::model::{Model as AirModel, ModelKind};
+use omniad_core::reference::shape::Shape;
 use omniad_core::{Coefficients, Environment, RigidBody, State};
 use omniad_sim::Bodies;
 
@@ -138,20 +139,23 @@ impl World {
     }
 
     /// Advances one displayed frame under the comparison model `kind` of
-    /// Fig. 12 built on `main`'s body ([`super::air::comparison_shape`]):
-    /// each body by the core's `rk4_step`, the bodies split over the
-    /// cores (independent, so the result does not depend on the thread
-    /// count). Returns false, moving nothing, when the body has no shape.
-    pub fn step_comparison(&mut self, kind: ModelKind, main: &Model, params: Params) -> bool {
+    /// Fig. 12 built on `shape` (the view's `air::comparison_shape` of
+    /// `main`'s body), moving `main`'s body as scaled by `params`: each body
+    /// by the core's `rk4_step`, the bodies split over the cores
+    /// (independent, so the result does not depend on the thread count).
+    /// Returns false, moving nothing, when the model cannot be built.
+    pub fn step_comparison(
+        &mut self,
+        (kind, shape): (ModelKind, &Shape),
+        main: &Model,
+        params: Params,
+    ) -> bool {
         let (_, body) = scaled(main, params);
         let env = Environment {
             air_density: params.air_density,
             ..Environment::standard()
         };
-        let Some(shape) = super::air::comparison_shape(main, params) else {
-            return false;
-        };
-        let Ok(air) = AirModel::new(kind, Some(&shape), None, env) else {
+        let Ok(air) = AirModel::new(kind, Some(shape), None, env) else {
             return false;
         };
         let step = |s: &mut State<f64>| {
