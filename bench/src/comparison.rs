@@ -30,10 +30,13 @@ pub fn measure(quick: bool) -> Vec<ModelStep> {
     let batches = if quick { 20 } else { 400 };
     let (coefficients, body, env) = (model::<f64>(), plate(), Environment::standard());
     let shape = Shape::PAPER_PLATE;
-    let s0 = start_states(1)
+    // Moving and turning, as in flight: every element sees air.
+    let mut s0 = start_states(1)
         .first()
         .copied()
         .unwrap_or(State::at_rest(Vector3::zeros()));
+    s0.velocity = Vector3::new(0.3, -1.2, -3.1);
+    s0.angular_velocity = Vector3::new(0.5, 0.1, -0.7);
     ModelKind::ALL
         .iter()
         .filter_map(|&kind| {

@@ -7,6 +7,7 @@ use nalgebra::{Matrix3, UnitQuaternion, Vector3};
 use omniad_core::batch::{rk4_lanes, StateLanes};
 use omniad_core::integrate::rk4_step;
 use omniad_core::lanes::LANES;
+use omniad_core::reference::shape::Shape;
 use omniad_core::rigid_body::AirForces;
 use omniad_core::{Environment, LaneScalar, RigidBody, State};
 use omniad_sim::Bodies;
@@ -44,12 +45,11 @@ pub struct Figures {
     pub bodies_realtime: u64,
 }
 
-/// The 30 x 50 x 2 cm, 48 g foam plate (the MuJoCo peer's body).
+/// The 30 x 50 x 2 cm, 48 g foam plate (the MuJoCo peer's body):
+/// [`Shape::PAPER_PLATE`] as a uniform solid.
 pub fn plate() -> RigidBody<f64> {
-    let s = Vector3::new(0.30f64, 0.50, 0.02);
-    let i = |a: f64, b: f64| 0.048 / 12.0 * (a * a + b * b);
-    let inertia = Matrix3::from_diagonal(&Vector3::new(i(s.y, s.z), i(s.x, s.z), i(s.x, s.y)));
-    RigidBody::new(0.048, inertia).unwrap_or(RigidBody {
+    let shape = Shape::PAPER_PLATE;
+    RigidBody::new(shape.mass, shape.inertia()).unwrap_or(RigidBody {
         mass: 1.0,
         inertia: Matrix3::identity(),
         inverse_inertia: Matrix3::identity(),

@@ -9,7 +9,7 @@
 use crate::basis::vector_basis;
 use crate::coefficients::{Coefficients, ModelError, SETS};
 use crate::quadrature::sphere_quadrature;
-use crate::rigid_body::{Forces, State};
+use crate::rigid_body::{Environment, Forces, State};
 use crate::sh::{self, MAX_COEFFS};
 use nalgebra::Vector3;
 
@@ -73,25 +73,35 @@ pub fn project_into(
 
 /// The steady coefficient functions of any air model `forces` (eqs. 5-8
 /// read backwards), projected as [`project`]: at each direction `E` the
-/// wrench (body frame) on a body at rest in attitude moving at 1 m/s
-/// along `E` (`V = E`, `Ω = 0`, the attitude the identity so body and
-/// world frames agree, no wind), over `½ρL²` (force) and `½ρL³` (torque).
-/// How a comparison model of the paper's Fig. 12 looks on the coefficient
-/// sphere. For a wrench quadratic in the speed (the per-element models)
-/// the speed does not matter; the damping (`Ω ≠ 0`) and any added mass are
-/// not steady coefficients and are left out. `air_density` (kg/m³) must
-/// be the one `forces` was built with, positive.
+/// wrench (body frame) on a body moving at 1 m/s along `E` through the air
+/// of `environment` (`V = E`: world velocity `E` plus the wind; `Ω = 0`;
+/// the attitude the identity, so body and world frames agree), over
+/// `½ρL²` (force) and `½ρL³` (torque). How a comparison model of the
+/// paper's Fig. 12 looks on the coefficient sphere; Kirchhoff's steady
+/// part is its Munk moment `-V × (M_a V)`. For a wrench quadratic in the
+/// speed (every comparison model) the speed does not matter. Left out:
+/// the damping (`Ω ≠ 0`), added mass's `-M_a dV/dt` (no function of `E`),
+/// and anything the attitude adds (a gravity coupling, buoyancy) at the
+/// identity attitude is included as it is there. `environment` must be the
+/// one `forces` was built with; its density must be positive and finite.
 pub fn project_steady<F: Forces<f64>>(
     forces: &F,
     degree: u8,
     pole: Vector3<f64>,
     reference_length: f64,
-    air_density: f64,
+    environment: &Environment<f64>,
 ) -> Result<Coefficients<f64>, ModelError> {
-    let q = 0.5 * air_density * reference_length * reference_length;
+    let rho = environment.air_density;
+    if !rho.is_finite() {
+        return Err(ModelError::NonFinite("air density"));
+    }
+    if rho <= 0.0 {
+        return Err(ModelError::OutOfRange("air density (must be positive)"));
+    }
+    let q = 0.5 * rho * reference_length * reference_length;
     project(degree, pole, reference_length, |e| {
         let mut state = State::at_rest(Vector3::zeros());
-        state.velocity = *e;
+        state.velocity = e + environment.wind;
         let w = forces.wrench(0.0, &state);
         (w.force / q, w.torque / (q * reference_length))
     })
@@ -118,7 +128,7 @@ mod tests {
     /// direction convention are right).
     #[test]
     fn steady_projection_gives_back_a_coefficient_model() {
-        use crate::rigid_body::{AirForces, Environment};
+        use crate::rigid_body::AirForces;
         let l = 0.4;
         let model = project(4, Vector3::z(), l, |e| {
             let n = Vector3::z();
@@ -130,13 +140,14 @@ mod tests {
         .unwrap();
         let environment = Environment {
             air_density: 1.3,
+            wind: Vector3::new(2.0, -1.0, 0.5),
             ..Environment::standard()
         };
         let forces = AirForces {
             model: &model,
             environment,
         };
-        let back = project_steady(&forces, 4, Vector3::z(), l, 1.3).unwrap();
+        let back = project_steady(&forces, 4, Vector3::z(), l, &environment).unwrap();
         for e in [Vector3::x(), Vector3::new(0.3, -0.4, 0.8).normalize()] {
             let (a, b) = (
                 model.at_direction(&e).unwrap(),
@@ -144,6 +155,13 @@ mod tests {
             );
             assert!((a.force - b.force).norm() < 1e-9, "{a:?} vs {b:?}");
             assert!((a.torque - b.torque).norm() < 1e-9, "{a:?} vs {b:?}");
+        }
+        for rho in [0.0, -1.0, f64::NAN] {
+            let air = Environment {
+                air_density: rho,
+                ..environment
+            };
+            assert!(project_steady(&forces, 4, Vector3::z(), l, &air).is_err());
         }
     }
 }

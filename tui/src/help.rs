@@ -41,7 +41,7 @@ pub fn keys(view: ViewId) -> &'static [(&'static str, &'static str)] {
             ("d D", "air density ρ down / up"),
             ("s S", "size L down / up"),
             ("w W", "mass and inertia down / up"),
-            ("o", "switch model: OmniAD, drag only, Fig. 12's vacuum, Kirchhoff, drag-traction, simplified"),
+            ("o", "switch model: OmniAD, drag only, Fig. 12's vacuum, kirchhoff, drag-traction, simplified"),
             ("k", "tethered kite (kite view's design) in gusts"),
             ("g G / u U", "kite: gusts / wind down, up"),
             ("+ -", "double / halve the bodies"),

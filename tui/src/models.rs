@@ -79,42 +79,54 @@ pub fn isotropic_drag(like: &Coefficients<f64>, c: f64) -> Model {
     }
 }
 
-/// The steady coefficient functions of the paper's per-element comparison
-/// models (Fig. 12: drag and traction, simplified lift and drag), built
-/// on the equivalent box of `like`'s body (`Shape::of_body`) in standard
-/// air and projected onto SH of `like`'s degree and `L`
-/// (`omniad_core::projection::project_steady`), so the sphere view can
-/// set them beside the OmniAD model. Kirchhoff's added mass and vacuum
-/// have no steady wrench (their coefficients are zero) and are not
-/// listed. Empty when the body's moments are no box's.
-pub fn comparison_spheres(like: &Coefficients<f64>) -> Vec<Model> {
-    let body = like.body.unwrap_or(PLATE_BODY);
+/// The equivalent box of a model's body ([`Shape::of_body`]: the uniform
+/// box of its mass and moments of inertia), [`PLATE_BODY`]'s when the file
+/// records no body (as the simulation view moves it). `None` when the
+/// moments are no box's.
+pub fn equivalent_box(model: &Coefficients<f64>) -> Option<Shape> {
+    let body = model.body.unwrap_or(PLATE_BODY);
     let inertia = omniad_core::math::symmetric_from_six(body.inertia);
-    let Some(shape) = Shape::of_body(body.mass, &inertia.diagonal()) else {
+    Shape::of_body(body.mass, &inertia.diagonal())
+}
+
+/// The steady coefficient functions of the paper's Fig. 12 comparison
+/// models (Kirchhoff's Munk moment, drag and traction, simplified lift and
+/// drag) on the equivalent box of `like`'s body ([`equivalent_box`]) in
+/// standard air, projected onto SH of `like`'s degree and `L`
+/// (`omniad_core::projection::project_steady`), so the sphere view can set
+/// them beside the OmniAD model. Vacuum has no wrench and is not listed.
+/// Empty when `like` records no body (its scale would be a guess) or its
+/// moments are no box's.
+pub fn comparison_spheres(like: &Coefficients<f64>) -> Vec<Model> {
+    let Some(shape) = like.body.and(equivalent_box(like)) else {
         return Vec::new();
     };
     let environment = Environment::standard();
-    [ModelKind::DragTraction, ModelKind::Simplified]
-        .into_iter()
-        .filter_map(|kind| {
-            let air = AirModel::new(kind, Some(&shape), None, environment).ok()?;
-            let mut m = project_steady(
-                &air,
-                like.degree(),
-                like.pole(),
-                like.reference_length(),
-                environment.air_density,
-            )
-            .ok()?;
-            let label = format!("{} (Fig. 12)", kind.name());
-            let _ = m.set_name(&label);
-            m.body = like.body;
-            Some(Model {
-                label,
-                coefficients: m,
-            })
+    [
+        ModelKind::Kirchhoff,
+        ModelKind::DragTraction,
+        ModelKind::Simplified,
+    ]
+    .into_iter()
+    .filter_map(|kind| {
+        let air = AirModel::new(kind, Some(&shape), None, environment).ok()?;
+        let mut m = project_steady(
+            &air,
+            like.degree(),
+            like.pole(),
+            like.reference_length(),
+            &environment,
+        )
+        .ok()?;
+        let label = format!("{} (Fig. 12, steady)", kind.name());
+        let _ = m.set_name(&label);
+        m.body = like.body;
+        Some(Model {
+            label,
+            coefficients: m,
         })
-        .collect()
+    })
+    .collect()
 }
 
 fn unit_zeros(degree: u8) -> Coefficients<f64> {
@@ -170,28 +182,59 @@ mod tests {
     /// drag and traction shares the panel model's broadside coefficient,
     /// so it agrees with the bundled file; the simplified model's force is
     /// its own curve's drag (Wang et al. 2004) over the plate's area, face-on
-    /// and edge-on (a wrong shape, scale or direction would not be).
+    /// and edge-on; obliquely, the per-element models have no torque (no
+    /// centre of pressure), the simplified model's lift is on the panel
+    /// plate's side, and Kirchhoff has the Munk moment and no force (a
+    /// wrong shape, scale, sign or direction would not pass).
     #[test]
     fn comparison_spheres_of_the_bundled_plate() {
         use omniad_core::reference::simplified::drag_coefficient;
         let plate = default_model().coefficients;
         let spheres = comparison_spheres(&plate);
         let labels: Vec<&str> = spheres.iter().map(|m| m.label.as_str()).collect();
-        assert_eq!(labels, ["drag-traction (Fig. 12)", "simplified (Fig. 12)"]);
-        let at = |m: &Coefficients<f64>, e: &Vector3<f64>| {
-            m.at_direction(e).map(|c| c.force).unwrap_or_default()
-        };
-        let (traction, simplified) = (&spheres[0].coefficients, &spheres[1].coefficients);
+        assert_eq!(
+            labels,
+            [
+                "kirchhoff (Fig. 12, steady)",
+                "drag-traction (Fig. 12, steady)",
+                "simplified (Fig. 12, steady)"
+            ]
+        );
+        let at = |m: &Coefficients<f64>, e: &Vector3<f64>| m.at_direction(e).expect("a direction");
+        let [kirchhoff, traction, simplified] =
+            [&spheres[0], &spheres[1], &spheres[2]].map(|m| &m.coefficients);
         let (face_on, edge_on) = (Vector3::z(), Vector3::x());
         let near = |got: f64, want: f64| (got / want - 1.0).abs() < 0.03;
-        let (got, want) = (at(traction, &face_on).z, at(&plate, &face_on).z);
+        let (got, want) = (at(traction, &face_on).force.z, at(&plate, &face_on).force.z);
         assert!(near(got, want), "{got} vs {want}");
         let area_over_l2 = 0.3 * 0.5 / plate.reference_length().powi(2);
         for (e, sin_a) in [(face_on, 1.0), (edge_on, 0.0)] {
-            let got = at(simplified, &e).dot(&e);
+            let got = at(simplified, &e).force.dot(&e);
             let want = -drag_coefficient(sin_a) * area_over_l2;
             assert!(near(got, want), "{e:?}: {got} vs {want}");
         }
+        let oblique = Vector3::new(1.0, 0.0, 1.0).normalize();
+        let across = |f: Vector3<f64>| f - oblique * f.dot(&oblique);
+        for m in [traction, simplified] {
+            assert!(at(m, &oblique).torque.norm() < 1e-9);
+        }
+        let lift = across(at(simplified, &oblique).force);
+        assert!(
+            lift.dot(&across(at(&plate, &oblique).force)) > 0.0,
+            "{lift:?}"
+        );
+        let munk = at(kirchhoff, &oblique);
+        assert!(
+            munk.force.norm() < 1e-9 && munk.torque.y.abs() > 1e-3,
+            "{munk:?}"
+        );
+    }
+
+    #[test]
+    fn a_file_without_a_body_gets_no_comparison_spheres() {
+        let mut plate = default_model().coefficients;
+        plate.body = None;
+        assert!(comparison_spheres(&plate).is_empty());
     }
 
     #[test]

@@ -55,9 +55,16 @@ pub struct Element {
 /// grid), enough for the rotational damping integral to within ~1 %.
 pub const GRID: usize = 8;
 
-/// The largest thickness, relative to its largest extent, of a body that
-/// [`Shape::of_body`] calls a plate: the paper's foam plate is 0.04.
+/// The largest thickness, relative to the smaller of its other two
+/// extents, of a body that [`Shape::of_body`] calls a plate: the paper's
+/// foam plate is 0.07.
 pub const PLATE_THINNESS: f64 = 0.1;
+
+/// How far below zero, relative to the sum of the three, a squared
+/// extent from rounded moments may fall and still be read as zero (a
+/// lamina) by [`Shape::of_body`]: moments given to three significant
+/// figures err by up to half a per cent each.
+pub const LAMINA_TOLERANCE: f64 = 1e-2;
 
 impl Shape {
     /// The paper's foam plate (§8): 30 x 50 x 2 cm, 48 g.
@@ -79,11 +86,16 @@ impl Shape {
     /// [`Self::inertia`], `x² = 6 (I_yy + I_zz - I_xx) / M` and cyclic (the
     /// body's equivalent box; for a uniform plate or box, the shape itself).
     /// A [`ShapeKind::Plate`] when z is its thinnest extent and at most
-    /// [`PLATE_THINNESS`] of the largest (a plate's faces lie in x-y).
-    /// `None` when the moments are not those of a box (one exceeds the sum
-    /// of the other two: no mass distribution has such moments) or any
-    /// number is not finite and positive. Only the moments along the axes
-    /// are used: products of inertia are not a shape's.
+    /// [`PLATE_THINNESS`] of the smaller of x and y (a plate's faces lie in
+    /// x-y; a rod is a box). A lamina's moments give a zero thickness,
+    /// which moments rounded to three figures can push a little below zero:
+    /// a squared extent down to [`LAMINA_TOLERANCE`] of their sum below zero
+    /// is a zero extent (a zero-thickness box is a two-sided plate in
+    /// whichever plane it lies). `None` when the moments are no box's (one
+    /// clearly exceeds the sum of the other two: no mass distribution has
+    /// such moments) or a number is not finite and positive. Only the
+    /// moments along the axes are used: products of inertia are not a
+    /// shape's.
     pub fn of_body(mass: f64, moments: &Vector3<f64>) -> Option<Shape> {
         let (a, b, c) = (moments.x, moments.y, moments.z);
         let positive = |x: f64| x.is_finite() && x > 0.0;
@@ -91,20 +103,17 @@ impl Shape {
             return None;
         }
         let squared = Vector3::new(b + c - a, a + c - b, a + b - c) * (6.0 / mass);
-        // A lamina's moments give a zero thickness; rounding may make it a
-        // hair negative.
-        let tolerance = 1e-9 * squared.max();
+        let tolerance = LAMINA_TOLERANCE * squared.sum();
         if squared.min() < -tolerance {
             return None;
         }
         let size = squared.map(|x| libm::sqrt(x.max(0.0)));
-        let thin = size.z <= size.x.min(size.y) && size.z <= PLATE_THINNESS * size.max();
-        let kind = if thin {
+        let kind = if size.z <= PLATE_THINNESS * size.x.min(size.y) {
             ShapeKind::Plate
         } else {
             ShapeKind::Box
         };
-        (size.x > 0.0 && size.y > 0.0).then_some(Shape { kind, size, mass })
+        Some(Shape { kind, size, mass })
     }
 
     /// Reference length L (eq. 3): the bounding-box diagonal, m (as the
@@ -229,17 +238,26 @@ mod tests {
         let back = Shape::of_body(cube.mass, &moments(&cube)).expect("a box");
         assert_eq!(back.kind, ShapeKind::Box);
         assert!((back.size - cube.size).norm() < 1e-12);
-        // Thin along x: a box (a plate's faces are x-y).
-        let edge_on = Shape {
-            size: Vector3::new(0.02, 0.5, 0.3),
-            ..plate
-        };
-        let back = Shape::of_body(plate.mass, &moments(&edge_on)).expect("a box");
-        assert_eq!(back.kind, ShapeKind::Box);
-        // A lamina (zero thickness) is a plate.
+        // Thin along x, a rod, a thick slab: boxes (a plate's faces are
+        // x-y, and thin against both of them).
+        for size in [[0.02, 0.5, 0.3], [0.3, 0.02, 0.02], [0.3, 0.5, 0.06]] {
+            let s = Shape {
+                size: Vector3::from(size),
+                ..plate
+            };
+            let back = Shape::of_body(plate.mass, &moments(&s)).expect("a box");
+            assert_eq!(back.kind, ShapeKind::Box, "{size:?}");
+            assert!((back.size - s.size).norm() < 1e-12);
+        }
+        // A lamina (zero thickness) is a plate, also from moments rounded
+        // to three figures (I_zz 1.65e-6 for 1.64e-6).
         let lamina = Vector3::new(1.0, 2.0, 3.0) * 1e-4;
         let back = Shape::of_body(0.1, &lamina).expect("a lamina");
-        assert_eq!((back.kind, back.size.z), (ShapeKind::Plate, 0.0));
+        assert_eq!(back.kind, ShapeKind::Plate);
+        assert!(back.size.z < 1e-9);
+        let card = Shape::of_body(0.002, &Vector3::new(8.2e-7, 8.2e-7, 1.65e-6)).expect("a card");
+        assert_eq!(card.kind, ShapeKind::Plate);
+        assert!((card.size.x - 0.0701).abs() < 1e-3 && card.size.z == 0.0);
         assert_eq!(Shape::of_body(0.1, &Vector3::new(1.0, 1.0, 5.0)), None);
         assert_eq!(Shape::of_body(0.0, &Vector3::new(1.0, 1.0, 1.0)), None);
         assert_eq!(Shape::of_body(0.1, &Vector3::new(f64::NAN, 1.0, 1.0)), None);

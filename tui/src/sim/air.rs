@@ -6,10 +6,10 @@
 //! equivalent box of the OmniAD model's body ([`Shape::of_body`]), so
 //! that every model moves the same rigid body.
 
-use super::world::{scaled, Params};
+use super::world::Params;
 use crate::models::Model;
 use omniad_core::model::ModelKind;
-use omniad_core::reference::shape::Shape;
+use omniad_core::reference::shape::{Shape, ShapeKind};
 
 /// The paper's comparison models the view offers after the coefficient
 /// models, in Fig. 12's order.
@@ -40,20 +40,35 @@ impl Air<'_> {
 }
 
 /// The comparison models' shape: the equivalent box of `main`'s body
-/// (mass and inertia as scaled by `params`), its extents times the size
-/// factor (as `L` is). `None` when the body's moments are no box's.
+/// ([`crate::models::equivalent_box`]; the mass scale does not change it),
+/// its extents times the size factor (as `L` is). `None` when the body's
+/// moments are no box's.
 pub fn comparison_shape(main: &Model, params: Params) -> Option<Shape> {
-    let (_, body) = scaled(main, params);
-    let mut shape = Shape::of_body(body.mass, &body.inertia.diagonal())?;
+    let mut shape = crate::models::equivalent_box(&main.coefficients)?;
     shape.size *= params.size;
     Some(shape)
+}
+
+/// What the control panel says of the body a comparison model moves:
+/// `plate 30.0×50.0×2.1 cm`, or why there is none.
+pub fn shape_note(shape: Option<&Shape>) -> String {
+    match shape {
+        Some(s) => {
+            let kind = match s.kind {
+                ShapeKind::Plate => "plate",
+                ShapeKind::Box => "box",
+            };
+            let cm = s.size * 100.0;
+            format!("{kind} {:.1}×{:.1}×{:.1} cm", cm.x, cm.y, cm.z)
+        }
+        None => "no box has this body's inertia".into(),
+    }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::models::builtin_model;
-    use omniad_core::reference::shape::ShapeKind;
 
     /// Vacuum is free fall to rounding (RK4 is exact for a constant
     /// acceleration); every air model makes the same bodies fall less far.
@@ -97,12 +112,38 @@ mod tests {
         }
     }
 
+    /// A body whose moments are no box's: the comparison models say so and
+    /// move nothing (the clock stands), the OmniAD model still runs.
+    #[test]
+    fn a_body_without_a_box_is_named_and_not_moved() {
+        use crate::sim::SimView;
+        use omniad_core::coefficients::MassProperties;
+        let mut main = builtin_model();
+        main.coefficients.body = Some(MassProperties {
+            mass: 1.0,
+            inertia: [1.0, 1.0, 5.0, 0.0, 0.0, 0.0],
+        });
+        assert!(comparison_shape(&main, Params::default()).is_none());
+        let mut view = SimView::new(vec![main]);
+        view.step();
+        let t = view.world.time;
+        assert!(t > 0.0, "the OmniAD model moves the bodies");
+        view.model = 1;
+        assert_eq!(
+            view.model_line(),
+            "vacuum (Fig. 12): no box has this body's inertia"
+        );
+        view.step();
+        assert_eq!(view.world.time, t);
+    }
+
     #[test]
     fn the_built_in_card_is_a_seven_centimetre_plate() {
         let main = builtin_model();
         let shape = comparison_shape(&main, Params::default()).expect("a shape");
         assert_eq!(shape.kind, ShapeKind::Plate);
         assert!((shape.size.x - 0.07).abs() < 1e-3 && (shape.size.y - 0.07).abs() < 1e-3);
+        assert_eq!(shape_note(Some(&shape)), "plate 7.0×7.0×0.5 cm");
         let bigger = Params {
             size: 2.0,
             ..Params::default()

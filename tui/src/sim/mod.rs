@@ -28,9 +28,6 @@ pub struct SimView {
     pub models: Vec<Model>,
     /// Model in use: an index into `models`, then into [`COMPARISONS`].
     pub model: usize,
-    /// The last frame could not be stepped: the comparison model has no
-    /// shape for this body ([`air::comparison_shape`]).
-    pub no_shape: bool,
     /// The Fig. 14 controls.
     pub params: Params,
     /// The bodies.
@@ -49,7 +46,6 @@ impl SimView {
         Self {
             models,
             model: 0,
-            no_shape: false,
             params: Params::default(),
             world: World::new(DEFAULT_COUNT, SEED),
             running: false,
@@ -60,13 +56,20 @@ impl SimView {
 
     /// The model in use.
     pub fn current(&self) -> Option<Air<'_>> {
-        match self.models.get(self.model) {
-            Some(m) => Some(Air::Coefficients(m)),
-            None => self
-                .model
-                .checked_sub(self.models.len())
-                .and_then(|i| COMPARISONS.get(i))
-                .map(|k| Air::Comparison(*k)),
+        air_at(&self.models, self.model)
+    }
+
+    /// The control panel's model line: the model's label and, for a
+    /// comparison model, the body shape it moves (or why it has none).
+    pub fn model_line(&self) -> String {
+        match (self.current(), self.main()) {
+            (Some(a @ Air::Comparison(_)), Some(main)) => {
+                let shape = air::comparison_shape(main, self.params);
+                let sep = if shape.is_some() { " on " } else { ": " };
+                format!("{}{sep}{}", a.label(), air::shape_note(shape.as_ref()))
+            }
+            (Some(a), _) => a.label(),
+            (None, _) => "none".into(),
         }
     }
 
@@ -90,18 +93,15 @@ impl SimView {
             return k.step_frame();
         }
         let (world, params) = (&mut self.world, self.params);
-        match self.models.get(self.model) {
-            Some(m) => world.step_frame(m, params),
-            None => {
-                let kind = self.model.checked_sub(self.models.len());
-                if let (Some(kind), Some(main)) =
-                    (kind.and_then(|i| COMPARISONS.get(i)), self.models.first())
-                {
-                    let shape = air::comparison_shape(main, params);
-                    self.no_shape =
-                        !shape.is_some_and(|s| world.step_comparison((*kind, &s), main, params));
+        match (air_at(&self.models, self.model), self.models.first()) {
+            (Some(Air::Coefficients(m)), _) => world.step_frame(m, params),
+            (Some(Air::Comparison(kind)), Some(main)) => {
+                // No shape: nothing moves (the panel says why).
+                if let Some(shape) = air::comparison_shape(main, params) {
+                    world.step_comparison((kind, &shape), main, params);
                 }
             }
+            _ => {}
         }
     }
 
@@ -136,10 +136,7 @@ impl SimView {
             'S' => p.size = (p.size * up).min(10.0),
             'w' => p.mass_scale = (p.mass_scale / up).max(0.05),
             'W' => p.mass_scale = (p.mass_scale * up).min(50.0),
-            'o' => {
-                self.model = (self.model + 1) % (self.models.len() + COMPARISONS.len());
-                self.no_shape = false;
-            }
+            'o' => self.model = (self.model + 1) % (self.models.len() + COMPARISONS.len()),
             '+' | '=' => self.resize(self.world.bodies.len() * 2),
             '-' => self.resize(self.world.bodies.len() / 2),
             '0' => {
@@ -153,5 +150,16 @@ impl SimView {
 
     fn resize(&mut self, n: usize) {
         self.world.resize(n.clamp(1, MAX_COUNT));
+    }
+}
+
+/// The air of view model `index`: `models` first, then [`COMPARISONS`].
+fn air_at(models: &[Model], index: usize) -> Option<Air<'_>> {
+    match models.get(index) {
+        Some(m) => Some(Air::Coefficients(m)),
+        None => index
+            .checked_sub(models.len())
+            .and_then(|i| COMPARISONS.get(i))
+            .map(|k| Air::Comparison(*k)),
     }
 }

@@ -89,10 +89,7 @@ fn render_top(v: &SimView, theme: Theme, area: Rect, buf: &mut Buffer) {
 
 fn render_controls(v: &SimView, theme: Theme, area: Rect, buf: &mut Buffer) {
     let p = v.params;
-    let mut model = v.current().map_or_else(|| "none".into(), |a| a.label());
-    if v.no_shape {
-        model.push_str(": no box has this body's inertia");
-    }
+    let model = v.model_line();
     let (l0, m0) = v.main().map_or((0.0, 0.0), |m| {
         (
             m.coefficients.reference_length(),

@@ -1,4 +1,5 @@
-//! Many bodies falling through air (paper Fig. 14): one coefficient set,
+//! Many bodies falling through air (paper Fig. 14): one air model (a
+//! coefficient set, or a comparison model of Fig. 12 on the same body),
 //! with air density ρ, size L and mass/inertia scale adjustable live.
 
 use crate::models::Model;
@@ -17,6 +18,10 @@ pub const SPAWN_Z: (f64, f64) = (4.0, 9.0);
 pub const DT: f64 = 1.0 / 120.0;
 /// Physics steps per displayed frame (1/30 s of simulated time).
 pub const STEPS_PER_FRAME: usize = 4;
+/// Fewest bodies a thread steps under a comparison model: below this a
+/// thread's start costs more than its bodies (a per-element model's frame
+/// is about 30-100 µs per body).
+const MIN_BODIES_PER_THREAD: usize = 16;
 
 /// The Fig. 14 controls.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -164,7 +169,11 @@ impl World {
             }
         };
         let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
-        let chunk = self.bodies.len().div_ceil(threads).max(1);
+        let chunk = self
+            .bodies
+            .len()
+            .div_ceil(threads)
+            .max(MIN_BODIES_PER_THREAD);
         std::thread::scope(|scope| {
             for part in self.bodies.chunks_mut(chunk) {
                 scope.spawn(move || part.iter_mut().for_each(step));
