@@ -5,14 +5,13 @@
 //! benchmark model, all by the single-body path: what a comparison costs
 //! next to the model it is compared with.
 
-use crate::model::model;
-use crate::physics::{plate, start_states, DT};
+use crate::model::{model, moving};
+use crate::physics::{plate, DT};
 use crate::timer::per_call;
-use nalgebra::Vector3;
 use omniad_core::integrate::rk4_step;
 use omniad_core::model::{Model, ModelKind};
 use omniad_core::reference::shape::Shape;
-use omniad_core::{Environment, State};
+use omniad_core::Environment;
 use std::hint::black_box;
 
 /// One model's figure.
@@ -31,12 +30,7 @@ pub fn measure(quick: bool) -> Vec<ModelStep> {
     let (coefficients, body, env) = (model::<f64>(), plate(), Environment::standard());
     let shape = Shape::PAPER_PLATE;
     // Moving and turning, as in flight: every element sees air.
-    let mut s0 = start_states(1)
-        .first()
-        .copied()
-        .unwrap_or(State::at_rest(Vector3::zeros()));
-    s0.velocity = Vector3::new(0.3, -1.2, -3.1);
-    s0.angular_velocity = Vector3::new(0.5, 0.1, -0.7);
+    let s0 = moving();
     ModelKind::ALL
         .iter()
         .filter_map(|&kind| {

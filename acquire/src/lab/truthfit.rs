@@ -57,6 +57,7 @@ pub fn run(
         terr * 100.0
     );
     // Reconstruct with the truth-fitted model at several walk scales.
+    let ctx = crate::fit::context::FitContext::of_set(&set);
     let first = crate::reconstruct::noise::initial_noise(&set);
     for (ws, acc, ang) in [
         (0.1, 0.3, 1.0),
@@ -90,7 +91,6 @@ pub fn run(
         let rec_frames = crate::reconstruct::run::samples(&set, &rec, &mut st);
         let refit = pipeline::fit_samples(&base, &rec_frames, &set, &cfg)?;
         let (e2, _) = force_error(&refit, &truth, &dirs, 20, 15f64.to_radians());
-        let ctx = crate::fit::context::FitContext::of_set(&set);
         let fin = crate::fit::torque::refit_final_torque(
             &refit,
             &rec_frames,

@@ -34,6 +34,16 @@ pub struct Params {
     pub mass_scale: f64,
 }
 
+impl Params {
+    /// Standard gravity, no wind, and the chosen air density.
+    pub fn environment(&self) -> Environment<f64> {
+        Environment {
+            air_density: self.air_density,
+            ..Environment::standard()
+        }
+    }
+}
+
 impl Default for Params {
     fn default() -> Self {
         Self {
@@ -112,10 +122,7 @@ impl World {
     /// field are re-spawned at the top.
     pub fn step_frame(&mut self, model: &Model, params: Params) {
         let (coeffs, body) = scaled(model, params);
-        let env = Environment {
-            air_density: params.air_density,
-            ..Environment::standard()
-        };
+        let env = params.environment();
         // The batch RK4 on all cores: each body bit for bit the core's
         // `rk4_step` with `AirForces` (the air model ignores the clock),
         // whatever the thread count.
@@ -155,11 +162,8 @@ impl World {
         main: &Model,
         params: Params,
     ) -> bool {
-        let (_, body) = scaled(main, params);
-        let env = Environment {
-            air_density: params.air_density,
-            ..Environment::standard()
-        };
+        let body = scaled_body(main, params);
+        let env = params.environment();
         let Ok(air) = AirModel::new(kind, Some(shape), None, env) else {
             return false;
         };
@@ -188,14 +192,19 @@ impl World {
 pub fn scaled(model: &Model, params: Params) -> (Coefficients<f64>, RigidBody<f64>) {
     let mut c = model.coefficients.clone();
     let _ = c.set_reference_length(c.reference_length() * params.size);
-    let props = c.body.unwrap_or(crate::models::PLATE_BODY);
+    (c, scaled_body(model, params))
+}
+
+/// The model's body (or [`crate::models::PLATE_BODY`] when it records
+/// none) with mass and inertia scaled by `params`.
+pub fn scaled_body(model: &Model, params: Params) -> RigidBody<f64> {
+    let props = model.coefficients.body.unwrap_or(crate::models::PLATE_BODY);
     let inertia = omniad_core::math::symmetric_from_six(props.inertia) * params.mass_scale;
-    let body = RigidBody::new(props.mass * params.mass_scale, inertia)
+    RigidBody::new(props.mass * params.mass_scale, inertia)
         .or_else(|_| RigidBody::new(props.mass, Matrix3::identity() * 1e-6))
         .unwrap_or(RigidBody {
             mass: 1.0,
             inertia: Matrix3::identity(),
             inverse_inertia: Matrix3::identity(),
-        });
-    (c, body)
+        })
 }
