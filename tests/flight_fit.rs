@@ -76,6 +76,12 @@ fn the_report_model_and_plots_of_a_flight_fit() {
         r["candidates"].as_array().is_some_and(|c| c.len() >= 5),
         "{r}"
     );
+    // Every candidate, at every step, has its test-cycle error (later
+    // steps' were NaN, printed as measured).
+    for c in r["candidates"].as_array().expect("candidates") {
+        let rms = c["heldout_force_rms"].as_f64();
+        assert!(rms.is_some_and(|x| x.is_finite() && x > 0.0), "{c}");
+    }
     for name in r["selected"].as_array().expect("selected") {
         let name = name.as_str().expect("name");
         assert!(
@@ -170,6 +176,9 @@ fn bad_flight_options_are_errors_naming_them() {
         String::from_utf8_lossy(&out.stderr).into_owned()
     };
     assert!(run(&["--train", "1-2", "--test", "2"]).contains("cycle 2 is both"));
+    // Leave-one-cycle-out needs three training cycles: with two, every
+    // score was infinite and every gain NaN.
+    assert!(run(&["--train", "1-2", "--test", "3"]).contains("at least 3"));
     assert!(run(&["--train", "1-2", "--test", "9"]).contains("_0009.csv"));
     assert!(run(&["--train", "2-1", "--test", "3"]).contains("--train"));
     assert!(run(&["--train", "1-2", "--test", "3", "--mass", "nan"]).contains("mass"));

@@ -78,6 +78,20 @@ fn simulate_refuses_absurd_work_and_physics_naming_the_option() {
         &["simulate", p, "--duration", "1", "--air-density", "1e9"],
         &["--air-density"],
     );
+    // A step longer than the run ran none and reported success.
+    fails_naming(
+        &["simulate", p, "--duration", "1", "--dt", "10"],
+        &["--dt", "--duration"],
+    );
+    // A step that does not divide the run covers at least all of it
+    // (rounding simulated 0.7 s of 1 s).
+    let out = omniad()
+        .args(["simulate", p, "--duration", "1", "--dt", "0.7", "--json"])
+        .output()
+        .expect("run");
+    assert!(out.status.success(), "{}", stderr(&out));
+    let json = String::from_utf8_lossy(&out.stdout);
+    assert!(json.contains("\"steps\": 2"), "{json}");
 }
 
 #[test]
@@ -221,6 +235,25 @@ fn absurd_generator_and_panel_options_are_refused_naming_the_option() {
         &["--drops"],
     );
     fails_naming(&["synth", out, "--drops", "100000"], &["--drops"]);
+    // A noise that wrote a recording.toml TOML cannot read back.
+    fails_naming(&["synth", out, "--noise", "1e20"], &["--noise", "100"]);
+    // An inertia that underflows: no file no reader takes is written.
+    let tiny = dir.path().join("tiny.omni");
+    fails_naming(
+        &[
+            "panel",
+            "--shape",
+            "plate",
+            "--size",
+            "0.3,0.5,0.002",
+            "--mass",
+            "1e-300",
+            "-o",
+            tiny.to_str().expect("utf-8"),
+        ],
+        &["tiny.omni", "no reader"],
+    );
+    assert!(!tiny.exists());
     for speeds in ["8,5", "5", "5,16", "-1,2", "nan,2", "1,2,3"] {
         fails_naming(&["synth", out, "--throw-speed", speeds], &["--throw-speed"]);
     }
@@ -273,6 +306,29 @@ fn kite_physical_inputs_are_checked_up_front() {
         assert!(start.elapsed() < Duration::from_secs(10));
     }
     fails_naming(&["kite", "fly", kite, "--gust", "NaN"], &["--gust"]);
+    // The file's own wind has the option's bound (1e308 printed "wind inf
+    // m/s" and NaN margins).
+    let dir = tempfile::tempdir().expect("tempdir");
+    let text = std::fs::read_to_string(kite).expect("kite");
+    assert!(text.contains("speed = "), "the test edits the wind speed");
+    for speed in ["1e308", "61.0"] {
+        let edited: String = text
+            .lines()
+            .map(|l| {
+                if l.trim_start().starts_with("speed = ") {
+                    format!("speed = {speed}\n")
+                } else {
+                    format!("{l}\n")
+                }
+            })
+            .collect();
+        let path = dir.path().join("windy.toml");
+        std::fs::write(&path, edited).expect("write");
+        let p = path.to_str().expect("utf-8");
+        for command in ["check", "trim"] {
+            fails_naming(&["kite", command, p], &["wind.speed", "60"]);
+        }
+    }
 }
 
 #[test]
@@ -344,4 +400,52 @@ fn a_closed_output_pipe_ends_the_command_quietly() {
     let out = child.wait_with_output().expect("wait");
     assert!(!stderr(&out).contains("panicked"), "{}", stderr(&out));
     assert_ne!(out.status.code(), Some(101), "not a panic exit");
+}
+
+/// A command's output that is one of its own inputs is refused before any
+/// work, through any path, and the input is left byte for byte: `fit -o`
+/// over the set's `recording.toml`, `reconstruct -o` the set's own folder
+/// (its state CSVs would replace the marker CSVs of the same names), and
+/// `import-tracks` onto its own track file.
+#[test]
+fn an_output_that_is_an_input_is_refused_and_the_input_kept() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let set = one_take_set(dir.path());
+    let toml = Path::new(&set).join("recording.toml");
+    let take = Path::new(&set).join("drop-01.csv");
+    let before = (
+        std::fs::read(&toml).expect("toml"),
+        std::fs::read(&take).expect("take"),
+    );
+    let dotted = format!("{set}/./recording.toml");
+    for args in [
+        vec!["fit", &set, "-o", &dotted],
+        vec!["reconstruct", &set, "-o", &set],
+    ] {
+        let start = Instant::now();
+        fails_naming(&args, &["is an input"]);
+        assert!(
+            start.elapsed() < Duration::from_secs(10),
+            "{args:?}: refused late"
+        );
+    }
+    let take_s = take.to_str().expect("utf-8");
+    fails_naming(
+        &[
+            "import-tracks",
+            take_s,
+            "--format",
+            "dltdv",
+            "--map",
+            "p1=m0",
+            "-o",
+            take_s,
+        ],
+        &["is an input", "drop-01.csv"],
+    );
+    let after = (
+        std::fs::read(&toml).expect("toml"),
+        std::fs::read(&take).expect("take"),
+    );
+    assert!(before == after, "an input was changed");
 }

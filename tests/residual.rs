@@ -190,6 +190,13 @@ fn residual_names_buoyancy_and_clean_air_gets_nothing() {
         (a - b).abs() <= 1e-9 * b,
         "truth_model {a} N, --coeffs {b} N"
     );
+    // C_F error "before" is the given model's: nothing is selected on top
+    // of it, so it is the "after" model too (it was the first round's own
+    // fit, 8 % off, while "after" said 0 %).
+    assert_eq!(given["selected"], serde_json::json!([]), "{given:#}");
+    let cf = &given["cf_error_vs_truth"];
+    assert!(cf["before"].is_number(), "{cf:#}");
+    assert_eq!(cf["before"], cf["after"], "{cf:#}");
 }
 
 /// Runs omniad expecting failure; returns stderr.

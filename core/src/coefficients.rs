@@ -157,7 +157,20 @@ impl<T: LaneScalar> Coefficients<T> {
         if !crate::math::vector_is_finite(&pole) {
             return Err(ModelError::NonFinite("pole"));
         }
-        let len = crate::math::norm(&pole);
+        let mut pole = pole;
+        let mut len = crate::math::norm(&pole);
+        if !(len.finite() && len > T::zero()) {
+            // Scaled by its largest component first: the squares of a pole
+            // of 1e200s overflow (pole / inf is the zero vector), those of
+            // 1e-200s underflow. Only then, so that a stored unit pole is
+            // read back bit for bit.
+            let largest = pole.iter().fold(T::zero(), |m, &c| m.max(c.abs()));
+            if largest <= T::zero() {
+                return Err(ModelError::BadPole);
+            }
+            pole /= largest;
+            len = crate::math::norm(&pole);
+        }
         if len <= T::zero() {
             return Err(ModelError::BadPole);
         }

@@ -79,3 +79,24 @@ fn f32_is_finite_at_the_poles() {
             .all(|v| v.iter().all(|x| x.is_finite()) && (v.norm() - 1.0).abs() < 1e-6));
     }
 }
+
+/// A pole of huge components is a direction like any other: its squares
+/// overflow, and the pole was normalised to the zero vector (a file that
+/// then evaluated with flipped signs, and whose copy no reader took).
+#[test]
+fn a_pole_of_huge_components_is_normalised_not_zeroed() {
+    use omniad_core::Coefficients;
+    let m = Coefficients::<f64>::zeros(2, Vector3::new(0.0, 0.0, 1e200), 0.5).expect("model");
+    assert!((m.pole() - Vector3::z()).norm() < 1e-15, "{}", m.pole());
+    let m =
+        Coefficients::<f64>::zeros(2, Vector3::new(-f64::MAX, 0.0, f64::MAX), 0.5).expect("model");
+    let want = Vector3::new(-1.0, 0.0, 1.0) / 2f64.sqrt();
+    assert!((m.pole() - want).norm() < 1e-15, "{}", m.pole());
+    let m = Coefficients::<f32>::zeros(2, Vector3::new(3e30, 4e30, 0.0), 0.5).expect("f32");
+    assert!(
+        (m.pole() - Vector3::new(0.6, 0.8, 0.0)).norm() < 1e-6,
+        "{}",
+        m.pole()
+    );
+    assert!(Coefficients::<f64>::zeros(2, Vector3::zeros(), 0.5).is_err());
+}

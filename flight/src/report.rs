@@ -61,8 +61,9 @@ pub struct Candidate {
     /// As scored by the selection (training cycles, leave-one-cycle-out).
     #[serde(flatten)]
     pub tried: Tried,
-    /// The base model plus this effect alone, fitted on all training
-    /// cycles, on the test cycles (reported, never used to choose), N.
+    /// The design it was tried in (the base model plus the effects kept
+    /// before its step) with it, fitted on all training cycles, on the
+    /// test cycles (reported, never used to choose), N.
     pub heldout_force_rms: f64,
 }
 
@@ -189,6 +190,22 @@ pub fn candidates(kite: &KiteProperties, train: &Cycles) -> Vec<Term> {
     ]
 }
 
+/// An error unless `train` has the cycles leave-one-cycle-out selection
+/// needs ([`omniad_acquire::fit::select::MIN_TAKES`]): with fewer, every
+/// held-out score is undefined, and the report would print infinite
+/// errors and NaN gains as if they were measured.
+fn enough_training_cycles(train: &Cycles) -> Result<(), LogError> {
+    let min = omniad_acquire::fit::select::MIN_TAKES;
+    if train.len() >= min {
+        return Ok(());
+    }
+    let names: Vec<u32> = train.iter().map(|c| c.0).collect();
+    Err(LogError(format!(
+        "--train: the effects are selected by leaving one training cycle out, which needs at least {min} cycles with data; {} given {names:?}",
+        train.len()
+    )))
+}
+
 /// Runs the whole flight fit.
 pub fn run(cfg: &FlightFitConfig, progress: impl FnMut(&str)) -> Result<Outcome, LogError> {
     cfg.kite.validate().map_err(LogError)?;
@@ -199,6 +216,7 @@ pub fn run(cfg: &FlightFitConfig, progress: impl FnMut(&str)) -> Result<Outcome,
     }
     let (train, train_rows) = load(cfg, &cfg.train)?;
     let (test, test_rows) = load(cfg, &cfg.test)?;
+    enough_training_cycles(&train)?;
     let setup = Setup {
         degree: cfg.degree,
         pole: Vector3::z(),
@@ -217,7 +235,7 @@ pub fn run(cfg: &FlightFitConfig, progress: impl FnMut(&str)) -> Result<Outcome,
         .fit(sel.smoothing)
         .ok_or_else(|| LogError("the selected model is singular".into()))?;
     let after = held_out(&sel.design, &theta, &test);
-    let candidates = score_candidates(&base, &cands, &sel.tried, &train, &test)?;
+    let candidates = score_candidates((&base, &sel.design), &cands, &sel.tried, &train, &test)?;
     let confounding = confounding(&base, &cands, &train);
     let params = parameters(&final_p, sel.smoothing, &theta);
     let selected: Vec<String> = sel.design.terms.iter().skip(1).map(Term::name).collect();
@@ -250,19 +268,24 @@ pub fn run(cfg: &FlightFitConfig, progress: impl FnMut(&str)) -> Result<Outcome,
     })
 }
 
+/// Every tried candidate's test-cycle force RMS: the design it was tried
+/// in (the base plus the effects `selected` had kept before its step)
+/// with it, fitted on the training cycles.
 fn score_candidates(
-    base: &Design,
+    (base, selected): (&Design, &Design),
     cands: &[Term],
     tried: &[Tried],
     train: &Cycles,
     test: &Cycles,
 ) -> Result<Vec<Candidate>, LogError> {
     let mut out = Vec::new();
-    for t in tried.iter().filter(|t| t.step == 0) {
+    for t in tried {
         let Some(term) = cands.iter().find(|c| c.name() == t.effect) else {
             continue;
         };
         let mut d = base.clone();
+        d.terms
+            .extend(selected.terms.iter().skip(base.terms.len()).take(t.step));
         d.terms.push(*term);
         let (_, _, theta) = fitted(&d, train)?;
         out.push(Candidate {
@@ -270,10 +293,6 @@ fn score_candidates(
             heldout_force_rms: held_out(&d, &theta, test).heldout_force_rms,
         });
     }
-    out.extend(tried.iter().filter(|t| t.step > 0).map(|t| Candidate {
-        tried: t.clone(),
-        heldout_force_rms: f64::NAN,
-    }));
     Ok(out)
 }
 

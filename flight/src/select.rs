@@ -58,7 +58,7 @@ pub fn plausible(term: &Term, value: f64, kite: &KiteProperties) -> Result<(), S
     if (lo..=hi).contains(&value) {
         Ok(())
     } else {
-        Err(format!("{what} = {value:.3} outside [{lo}, {hi}]"))
+        Err(format!("{what} = {value:.3} outside [{lo:.3}, {hi:.3}]"))
     }
 }
 

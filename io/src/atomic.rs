@@ -4,6 +4,13 @@
 //! replaces the target in one step, so a reader sees either the old file or
 //! the complete new one. The temporary file lives in the target's folder
 //! (a rename cannot cross file systems) and is removed when anything fails.
+//!
+//! What a rename must not replace: a symbolic link is followed (its target
+//! is replaced, the link kept, as `cp` does), and a file that is not a
+//! regular one (a device such as `/dev/stdout` or `/dev/full`, a FIFO) is
+//! written through, not renamed over: renaming over `/dev/full` would turn
+//! the device into a regular file. And a command's output must never be one
+//! of its own inputs ([`refuse_input`]).
 
 use std::fs::{self, File, OpenOptions};
 use std::io::{self, BufWriter, Write};
@@ -27,6 +34,23 @@ where
             "is a folder, not a file",
         ));
     }
+    let resolved;
+    let path = match fs::symlink_metadata(path) {
+        Ok(m) if m.file_type().is_symlink() => {
+            resolved = fs::canonicalize(path).map_err(|e| {
+                io::Error::new(
+                    e.kind(),
+                    format!("is a link to nothing that can be written ({e})"),
+                )
+            })?;
+            resolved.as_path()
+        }
+        _ => path,
+    };
+    match fs::metadata(path) {
+        Ok(m) if !m.is_file() => return write_through(path, fill),
+        _ => {}
+    }
     let (tmp, file) = create_temporary(path)?;
     let result = (|| {
         let mut w = BufWriter::new(file);
@@ -39,6 +63,41 @@ where
         let _ = fs::remove_file(&tmp);
     }
     result
+}
+
+/// Writes `fill` straight into an existing file that is not a regular one
+/// (a device or a FIFO), which a rename would replace.
+fn write_through<F>(path: &Path, fill: F) -> io::Result<()>
+where
+    F: FnOnce(&mut dyn Write) -> io::Result<()>,
+{
+    let file = OpenOptions::new().write(true).open(path)?;
+    let mut w = BufWriter::new(file);
+    fill(&mut w)?;
+    w.flush()
+}
+
+/// An error when `output` is the same file as one of `inputs` (through any
+/// path or link; files that do not exist yet are no input): a command that
+/// wrote its result over what it read would destroy the user's data even
+/// when it succeeds. The error names both.
+pub fn refuse_input<P: AsRef<Path>>(output: &Path, inputs: &[P]) -> io::Result<()> {
+    let Ok(out) = fs::canonicalize(output) else {
+        return Ok(());
+    };
+    for input in inputs {
+        if fs::canonicalize(input.as_ref()).is_ok_and(|i| i == out) {
+            return Err(io::Error::new(
+                io::ErrorKind::InvalidInput,
+                format!(
+                    "{} is an input of this command ({}); choose another output",
+                    output.display(),
+                    input.as_ref().display()
+                ),
+            ));
+        }
+    }
+    Ok(())
 }
 
 /// Writes each `(file name, bytes)` into the folder `dir` (created if
@@ -148,6 +207,73 @@ mod tests {
         let dir = tempfile::tempdir().unwrap();
         assert!(write_atomic(dir.path(), b"x").is_err());
         assert!(dir.path().is_dir());
+    }
+
+    #[test]
+    fn a_link_is_followed_and_kept() {
+        let dir = tempfile::tempdir().unwrap();
+        let target = dir.path().join("target.txt");
+        let link = dir.path().join("link.txt");
+        fs::write(&target, "old").unwrap();
+        std::os::unix::fs::symlink(&target, &link).unwrap();
+        write_atomic(&link, b"new").unwrap();
+        assert!(fs::symlink_metadata(&link)
+            .unwrap()
+            .file_type()
+            .is_symlink());
+        assert_eq!(fs::read_to_string(&target).unwrap(), "new");
+        assert_eq!(
+            fs::read_dir(dir.path()).unwrap().count(),
+            2,
+            "no temporary left"
+        );
+    }
+
+    /// A FIFO (as a device would) gets the bytes written through and stays a
+    /// FIFO; a rename would have put a regular file in its place.
+    #[test]
+    fn a_fifo_is_written_through_not_replaced() {
+        use std::io::Read;
+        use std::os::unix::fs::FileTypeExt;
+        let dir = tempfile::tempdir().unwrap();
+        let fifo = dir.path().join("pipe");
+        let made = std::process::Command::new("mkfifo").arg(&fifo).status();
+        if !made.is_ok_and(|s| s.success()) {
+            eprintln!("no mkfifo here: skipped");
+            return;
+        }
+        // The reader reports through a channel, so a regression (the FIFO
+        // renamed over, its reader left waiting) fails instead of hanging.
+        let (tx, rx) = std::sync::mpsc::channel();
+        {
+            let fifo = fifo.clone();
+            std::thread::spawn(move || {
+                let mut s = String::new();
+                let read = File::open(&fifo).and_then(|mut f| f.read_to_string(&mut s));
+                let _ = tx.send(read.map(|_| s));
+            });
+        }
+        write_atomic(&fifo, b"through the pipe").unwrap();
+        assert!(fs::metadata(&fifo).unwrap().file_type().is_fifo());
+        let got = rx.recv_timeout(std::time::Duration::from_secs(10));
+        assert_eq!(got.unwrap().unwrap(), "through the pipe");
+    }
+
+    #[test]
+    fn an_input_is_refused_as_output_through_any_path() {
+        let dir = tempfile::tempdir().unwrap();
+        let input = dir.path().join("in.csv");
+        fs::write(&input, "data").unwrap();
+        let link = dir.path().join("alias.csv");
+        std::os::unix::fs::symlink(&input, &link).unwrap();
+        let dotted = dir.path().join(".").join("in.csv");
+        for out in [&input, &link, &dotted] {
+            let err = refuse_input(out, &[&input]).unwrap_err();
+            assert!(err.to_string().contains("in.csv"), "{err}");
+        }
+        refuse_input(&dir.path().join("out.csv"), &[&input]).unwrap();
+        fs::write(dir.path().join("other.csv"), "x").unwrap();
+        refuse_input(&dir.path().join("other.csv"), &[&input]).unwrap();
     }
 
     #[test]

@@ -13,6 +13,6 @@ pub mod atomic;
 pub mod capped;
 pub mod text;
 
-pub use atomic::{write_atomic, write_files_atomic, write_with};
+pub use atomic::{refuse_input, write_atomic, write_files_atomic, write_with};
 pub use capped::read_capped;
 pub use text::{csv_lines, read_text};

@@ -251,6 +251,12 @@ impl KiteSpec {
     /// Checks every number; the error names the field.
     pub fn validate(&self) -> Result<()> {
         positive("wind.speed", self.wind.speed)?;
+        if self.wind.speed > MAX_WIND_SPEED {
+            bail!(
+                "wind.speed: must be at most {MAX_WIND_SPEED} m/s (got {})",
+                self.wind.speed
+            );
+        }
         positive("wind.air_density", self.wind.air_density)?;
         positive("string.length", self.string.length)?;
         if self.string.gamma.is_some() && self.string.offset.is_some() {
@@ -393,6 +399,10 @@ fn finite(field: &str, x: f64) -> Result<()> {
     }
     Ok(())
 }
+
+/// The strongest wind a kite is checked or flown in, m/s (hurricane force
+/// is 33 m/s): the kite file's `wind.speed` and the commands' `--wind`.
+pub const MAX_WIND_SPEED: f64 = 60.0;
 
 fn positive(field: &str, x: f64) -> Result<()> {
     if !(x.is_finite() && x > 0.0) {

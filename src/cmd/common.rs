@@ -22,3 +22,10 @@ pub fn read_coefficients(path: &Path) -> Result<Coefficients<f64>> {
 pub fn write_coefficients(path: &Path, model: &Coefficients<f64>) -> Result<()> {
     omni_file::write(path, model).map_err(|e| anyhow::anyhow!("{e}"))
 }
+
+/// An error before any work when `output` is one of the files the command
+/// reads (`inputs`): its result would replace the user's data even when
+/// it succeeds (`omniad_io::refuse_input`).
+pub fn refuse_input<P: AsRef<Path>>(output: &Path, inputs: &[P]) -> Result<()> {
+    omniad_io::refuse_input(output, inputs).map_err(|e| anyhow::anyhow!("{e}"))
+}

@@ -66,6 +66,12 @@ pub fn run(cmd: &FirmwareCommand) -> Result<()> {
 }
 
 fn replay_cmd(args: &ReplayArgs) -> Result<()> {
+    if let Some(p) = &args.csv {
+        let inputs: Vec<&std::path::Path> = std::iter::once(args.log.as_path())
+            .chain(args.kite.as_deref())
+            .collect();
+        super::common::refuse_input(p, &inputs)?;
+    }
     let out = replay(&ReplayOptions {
         log: args.log.clone(),
         kite: args.kite.clone(),

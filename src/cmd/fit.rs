@@ -121,6 +121,7 @@ pub fn load(set: &std::path::Path) -> Result<RecordingSet> {
 pub fn run(a: &FitArgs) -> Result<()> {
     let start = Instant::now();
     let set = load(&a.set)?;
+    super::common::refuse_input(&a.output, &set.files)?;
     let loaded = start.elapsed().as_secs_f64();
     let method = match a.method {
         MethodArg::Lsq => Method::Lsq,

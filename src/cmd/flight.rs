@@ -98,6 +98,13 @@ fn fit(a: &FitArgs) -> Result<()> {
         kite,
         degree: usize::from(a.degree),
     };
+    if let Some(path) = &a.output {
+        // Every file of the flight folder is a possible input.
+        let inputs: Vec<std::path::PathBuf> = std::fs::read_dir(&a.dir)
+            .map(|d| d.filter_map(|e| e.ok().map(|e| e.path())).collect())
+            .unwrap_or_default();
+        super::common::refuse_input(path, &inputs)?;
+    }
     anyhow::ensure!(!cfg.train.is_empty(), "--train names no cycle");
     anyhow::ensure!(!cfg.test.is_empty(), "--test names no cycle");
     let bar = ProgressBar::new_spinner();

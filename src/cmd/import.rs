@@ -64,6 +64,7 @@ pub fn run(a: &ImportArgs) -> Result<()> {
         min_likelihood: a.min_likelihood,
         first_frame: a.first_frame,
     };
+    super::common::refuse_input(&a.output, &[&a.input])?;
     let rows = match a.format {
         TrackFormat::Dltdv => import::read_dltdv(&a.input, &o),
         TrackFormat::Dlc => import::read_deeplabcut(&a.input, &o),

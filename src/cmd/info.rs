@@ -107,7 +107,7 @@ fn summary(m: &Coefficients<f64>) -> serde_json::Value {
 }
 
 fn print_text(m: &Coefficients<f64>, s: &serde_json::Value) {
-    println!("name:              {}", m.name());
+    println!("name:              {}", printable(m.name()));
     println!(
         "degree N:          {} ({} SH coefficients per component)",
         m.degree(),
@@ -177,5 +177,29 @@ fn print_text(m: &Coefficients<f64>, s: &serde_json::Value) {
             s.norm(),
             s.magnus_scale()
         );
+    }
+}
+
+/// `name` with its control characters escaped (`\u{1b}`): a file's name
+/// is the file's, and printed raw an escape sequence in it would drive
+/// the user's terminal.
+fn printable(name: &str) -> String {
+    name.chars()
+        .map(|c| {
+            if c.is_control() {
+                c.escape_unicode().to_string()
+            } else {
+                c.to_string()
+            }
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn control_characters_of_a_name_are_escaped() {
+        assert_eq!(super::printable("plate 30 cm"), "plate 30 cm");
+        assert_eq!(super::printable("a\u{1b}[2Jb\n"), "a\\u{1b}[2Jb\\u{a}");
     }
 }

@@ -153,8 +153,8 @@ pub fn run(command: &KiteCommand) -> Result<()> {
     }
 }
 
-/// The strongest wind accepted, m/s (hurricane force is 33 m/s).
-const MAX_WIND: f64 = 60.0;
+/// The strongest wind accepted, m/s (the kite file's own bound).
+const MAX_WIND: f64 = omniad_kite::spec::MAX_WIND_SPEED;
 /// The longest simulated flight, s: bounds `kite fly`'s work.
 const MAX_SECONDS: f64 = 3600.0;
 /// The strongest gust accepted (standard deviation), m/s.
@@ -207,6 +207,9 @@ fn fly(a: &FlyArgs) -> Result<()> {
         wind: a.wind,
         ..Default::default()
     };
+    if let Some(path) = &a.csv {
+        super::common::refuse_input(path, &[&a.common.file])?;
+    }
     let report = omniad_kite::flight::fly(&design, &opts)?;
     if let Some(path) = &a.csv {
         omniad_io::write_atomic(path, omniad_kite::flight::trace_csv(&report).as_bytes())

@@ -27,6 +27,10 @@ pub struct ReconstructArgs {
 /// Runs `omniad reconstruct`.
 pub fn run(a: &ReconstructArgs) -> Result<()> {
     let set = super::fit::load(&a.set)?;
+    for take in &set.takes {
+        let path = a.output.join(format!("{}.csv", take.name));
+        super::common::refuse_input(&path, &set.files)?;
+    }
     let cfg = FitConfig {
         degree: a.degree,
         iterations: a.iterations,

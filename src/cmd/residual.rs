@@ -41,6 +41,9 @@ pub struct ResidualArgs {
 /// Runs `omniad residual`.
 pub fn run(a: &ResidualArgs) -> Result<()> {
     let set = load(&a.set)?;
+    if let Some(out) = &a.output {
+        super::common::refuse_input(out, &set.files)?;
+    }
     let given = match a.coeffs.as_deref() {
         Some(path) => Some(given_model(path, &a.set, &set, a.degree)?),
         None => None,

@@ -150,7 +150,16 @@ fn validate(a: &SimulateArgs) -> Result<u64> {
     if !(a.air_density.is_finite() && (0.0..=MAX_AIR_DENSITY).contains(&a.air_density)) {
         bail!("--air-density must be between 0 and {MAX_AIR_DENSITY} kg/m³");
     }
-    let steps = (a.duration / a.dt).round();
+    if a.dt > a.duration && a.duration > 0.0 {
+        bail!(
+            "--dt {} s is longer than --duration {} s: not one step would be run",
+            a.dt,
+            a.duration
+        );
+    }
+    // At least the duration asked for (rounding gave 0.7 s of a 1 s run at
+    // --dt 0.7); the tolerance keeps 1 / 0.001 at 1000 steps.
+    let steps = (a.duration / a.dt - 1e-9).ceil().max(0.0);
     if steps > MAX_STEPS {
         bail!(
             "--duration {} s at --dt {} s is {steps:.3e} RK4 steps; at most {MAX_STEPS:.0e} are run \

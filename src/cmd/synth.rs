@@ -82,6 +82,12 @@ pub struct SynthArgs {
 /// The most drops (or spins) one set may hold: bounded work.
 const MAX_TAKES: usize = 1000;
 
+/// Largest tracking noise, px: beyond it the markers of the 720 x 1280
+/// image say nothing about the pose (the largest marker spread seen is a
+/// few hundred pixels), and `1e20` wrote a `recording.toml` TOML cannot
+/// read back.
+const MAX_NOISE_PX: f64 = 100.0;
+
 /// Refuses an existing output that is a file or a non-empty folder,
 /// unless `force`: `omniad synth` replaces files it writes.
 fn refuse_existing(out: &Path, force: bool) -> Result<()> {
@@ -134,8 +140,9 @@ pub fn run(a: &SynthArgs) -> Result<()> {
         .collect::<Result<Vec<_>, _>>()
         .map_err(|e| anyhow::anyhow!("{e}"))?;
     anyhow::ensure!(
-        a.noise.is_finite() && a.noise >= 0.0,
-        "--noise must be a non-negative number of pixels"
+        a.noise.is_finite() && (0.0..=MAX_NOISE_PX).contains(&a.noise),
+        "--noise must be a number of pixels in [0, {MAX_NOISE_PX}], found {}",
+        a.noise
     );
     anyhow::ensure!(
         (0.0..=1.0).contains(&a.outliers),

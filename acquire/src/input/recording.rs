@@ -66,6 +66,10 @@ pub struct RecordingSet {
     pub camera: Option<Camera>,
     /// Takes in file order.
     pub takes: Vec<Take>,
+    /// The files the set was read from: `recording.toml` and every take's
+    /// track file (a command must not write its output over one, see
+    /// `omniad_io::refuse_input`).
+    pub files: Vec<PathBuf>,
 }
 
 #[derive(Deserialize)]
@@ -127,12 +131,20 @@ impl RecordingSet {
         if takes.is_empty() {
             return Err(Error::at_field(&path, "take", "the set lists no takes"));
         }
+        let tracks = raw
+            .take
+            .iter()
+            .flat_map(|t| t.markers.iter().chain(&t.poses));
+        let files = std::iter::once(path.clone())
+            .chain(tracks.map(|name| dir.join(name)))
+            .collect();
         Ok(Self {
             root: dir.to_path_buf(),
             world,
             object,
             camera,
             takes,
+            files,
         })
     }
 }

@@ -275,9 +275,11 @@ pub fn analyse(
             wind: rounds.wind.unwrap_or_else(Vector3::zeros),
         },
     );
+    // "Before" is the base model: the given one when there is one (it
+    // is every round's baseline), not the first round's own fit.
     let cf_error_vs_truth = truth_error(
         dir,
-        &first.outcome.model,
+        given.unwrap_or(&first.outcome.model),
         &last.ext.model,
         &last.outcome.samples,
     );

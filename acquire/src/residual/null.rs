@@ -109,6 +109,8 @@ pub(crate) fn replica(
         object: set.object.clone(),
         camera: set.camera.clone(),
         takes,
+        // A replica is made in memory: it was read from no file.
+        files: Vec::new(),
     })
 }
 

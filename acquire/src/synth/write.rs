@@ -241,7 +241,7 @@ fn header(
     let r = &c.rotation;
     let _ = write!(
         s,
-        "\n[camera]\nwidth = {}\nheight = {}\nfps = {}\nfx = {}\nfy = {}\ncx = {}\ncy = {}\ndistortion = [{k1}, {k2}, {p1}, {p2}, {k3}]\nrotation = [{}, {}, {}]\ntranslation = {}\npixel_noise = {}\n",
+        "\n[camera]\nwidth = {}\nheight = {}\nfps = {}\nfx = {}\nfy = {}\ncx = {}\ncy = {}\ndistortion = [{k1}, {k2}, {p1}, {p2}, {k3}]\nrotation = [{}, {}, {}]\ntranslation = {}\npixel_noise = {:?}\n",
         c.width, c.height, c.fps, c.focal.x, c.focal.y, c.centre.x, c.centre.y,
         v3(&r.row(0).transpose()), v3(&r.row(1).transpose()), v3(&r.row(2).transpose()),
         v3(&c.translation),
