@@ -101,6 +101,37 @@ fn format_errors_name_file_and_place() {
         "{e}"
     );
 
+    // Finite but impossible numbers are named where they are, not blamed
+    // on what they broke later (1e308 was "markers m1 and m0 at one point").
+    for (from, field) in [
+        ("reference_length = ", "object.reference_length"),
+        ("air_density = ", "world.air_density"),
+        ("mass = ", "object.mass"),
+    ] {
+        let edited: String = toml
+            .lines()
+            .map(|l| match l.strip_prefix(from) {
+                Some(_) => format!("{from}1e308\n"),
+                None => format!("{l}\n"),
+            })
+            .collect();
+        assert_ne!(edited.trim_end(), toml.trim_end(), "{from} is in the set");
+        std::fs::write(&toml_path, edited).expect("write");
+        let e = error_of(tmp.path());
+        assert!(e.contains("recording.toml") && e.contains(field), "{e}");
+    }
+    // A pole of huge components is a direction, not zero.
+    let edited: String = toml
+        .lines()
+        .map(|l| match l.strip_prefix("pole = ") {
+            Some(_) => "pole = [0, 1e300, 0]\n".to_owned(),
+            None => format!("{l}\n"),
+        })
+        .collect();
+    std::fs::write(&toml_path, edited).expect("write");
+    let set = RecordingSet::load(tmp.path()).expect("a huge pole loads");
+    assert_eq!(set.object.pole, nalgebra::Vector3::y());
+
     std::fs::write(&toml_path, toml.replace("fx = 1100", "fx = \"wide\"")).expect("write");
     let e = error_of(tmp.path());
     assert!(e.contains("recording.toml") && e.contains("fx"), "{e}");

@@ -235,15 +235,27 @@ pub fn parse(text: &str, path: &Path) -> Result<Cycle, LogError> {
     Ok(cycle)
 }
 
-/// The row, or the name of the first required column that is missing or
-/// not a finite number.
+/// The largest magnitude any telemetry value may have: above a time in
+/// Unix milliseconds (1.6e12) and far above any sensor's range. A logger
+/// fault such as `1e308` is a bad value, not a measurement: the fit then
+/// found "the training cycles do not determine the model" with no line to
+/// look at.
+pub const MAX_VALUE: f64 = 1e13;
+
+/// Absolute zero, °C: `airspeed_temperature` below it is no temperature.
+const ABSOLUTE_ZERO_C: f64 = -273.15;
+
+/// The row, or the name of the first required column that is missing, not
+/// a finite number, beyond [`MAX_VALUE`], or (the temperature) below
+/// absolute zero.
 fn row(fields: &[&str], index: &[usize; REQUIRED.len()]) -> Result<Row, &'static str> {
     let mut r = [0.0; REQUIRED.len()];
     for ((slot, &i), name) in r.iter_mut().zip(index).zip(REQUIRED) {
         *slot = fields
             .get(i)
             .and_then(|f| f.trim().parse::<f64>().ok())
-            .filter(|v| v.is_finite())
+            .filter(|v| v.is_finite() && v.abs() <= MAX_VALUE)
+            .filter(|v| name != "airspeed_temperature" || *v > ABSOLUTE_ZERO_C)
             .ok_or(name)?;
     }
     Ok(Row(r))
@@ -282,6 +294,20 @@ mod tests {
         assert_eq!(c.dropped.get("time"), Some(&1));
         assert_eq!(c.dropped.get("ground_tether_force"), Some(&1));
         assert_eq!(c.rows[0].get(Col::TetherForce), 99.0);
+        // A logger's 1e308 and a temperature below absolute zero are bad
+        // values too (one of them made the whole fit fail unexplained).
+        let mut cold: Vec<String> = line("1.3", "99").split(',').map(str::to_owned).collect();
+        cold[1 + 1] = "-300".into(); // airspeed_temperature, after the date
+        let text = format!(
+            "{}\n{}\n{}\n",
+            header(),
+            line("1.4", "1e308"),
+            cold.join(",")
+        );
+        let c = parse(&text, Path::new("x_0008.csv")).unwrap();
+        assert_eq!((c.read, c.rows.len()), (2, 0));
+        assert_eq!(c.dropped.get("ground_tether_force"), Some(&1));
+        assert_eq!(c.dropped.get("airspeed_temperature"), Some(&1));
     }
 
     #[test]

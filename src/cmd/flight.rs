@@ -140,7 +140,7 @@ fn print_text(r: &Report) {
     for (k, v) in &r.rows {
         let dropped: usize = v.dropped_missing.values().sum();
         println!(
-            "  {k}: {} rows read, {} used, {} dropped for a missing value {:?}, {} without airflow",
+            "  {k}: {} rows read, {} used, {} dropped for a missing or impossible value {:?}, {} without airflow",
             v.read, v.used, dropped, v.dropped_missing, v.dropped_no_airflow
         );
     }

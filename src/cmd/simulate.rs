@@ -136,7 +136,7 @@ pub const MAX_ANGULAR_SPEED: f64 = 1e4;
 pub const MAX_DISTANCE: f64 = 1e6;
 /// Air densities above this are refused, kg/m³ (water is 1000; the model
 /// is for air, §3).
-pub const MAX_AIR_DENSITY: f64 = 1e3;
+pub const MAX_AIR_DENSITY: f64 = omniad_acquire::input::recording::MAX_AIR_DENSITY;
 
 /// Checks every physical input before any work: finite, in range, the
 /// option named in the error.

@@ -2,7 +2,7 @@
 //! reference length, pole and markers, validated field by field.
 
 use crate::error::{Error, Result};
-use crate::input::validate::{finite, positive};
+use crate::input::validate::{finite, positive, unit_vector, within};
 use nalgebra::{Matrix3, Vector3};
 use serde::Deserialize;
 use std::collections::BTreeMap;
@@ -45,9 +45,28 @@ pub(crate) struct RawObject {
 }
 
 /// The validated object of `recording.toml` at `path`.
+/// The heaviest object a recording may describe, kg (a kite with its
+/// control unit is tens of kg).
+pub const MAX_MASS: f64 = 1e4;
+/// The longest reference length a recording may give, m.
+pub const MAX_REFERENCE_LENGTH: f64 = 1e3;
+
 pub(crate) fn object(path: &Path, o: RawObject) -> Result<Object> {
     positive(path, "object.mass", o.mass)?;
-    positive(path, "object.reference_length", o.reference_length)?;
+    within(
+        path,
+        "object.mass",
+        o.mass,
+        (1e-9, MAX_MASS),
+        ("kg", "a body one camera films falling"),
+    )?;
+    within(
+        path,
+        "object.reference_length",
+        o.reference_length,
+        (1e-4, MAX_REFERENCE_LENGTH),
+        ("m", "a body one camera films whole, its markers told apart"),
+    )?;
     let flat: Vec<f64> = o.inertia.iter().flatten().copied().collect();
     finite(path, "object.inertia", &flat)?;
     let inertia = Matrix3::from_row_slice(&flat);
@@ -62,10 +81,9 @@ pub(crate) fn object(path: &Path, o: RawObject) -> Result<Object> {
     }
     physical_inertia(path, &inertia)?;
     finite(path, "object.pole", &o.pole)?;
-    let pole = Vector3::from(o.pole);
-    if pole.norm() == 0.0 {
+    let Some(pole) = unit_vector(&Vector3::from(o.pole)) else {
         return Err(Error::at_field(path, "object.pole", "must be non-zero"));
-    }
+    };
     let mut markers = Vec::with_capacity(o.markers.len());
     for (name, p) in o.markers {
         finite(path, &format!("object.markers.{name}"), &p)?;
@@ -77,7 +95,7 @@ pub(crate) fn object(path: &Path, o: RawObject) -> Result<Object> {
         mass: o.mass,
         inertia,
         reference_length: o.reference_length,
-        pole: pole.normalize(),
+        pole,
         markers,
     })
 }

@@ -8,7 +8,7 @@ use crate::error::{Error, Result};
 use crate::input::camera::{Camera, RawCamera};
 use crate::input::object::{object, RawObject};
 use crate::input::tracks::{self, Epoch};
-use crate::input::validate::{finite, positive, unit_quaternion};
+use crate::input::validate::{finite, positive, unit_quaternion, within};
 use nalgebra::{UnitQuaternion, Vector3};
 use serde::Deserialize;
 use std::path::{Path, PathBuf};
@@ -52,6 +52,10 @@ pub struct Take {
     /// True for 3-D pose tracks, false for 2-D marker tracks.
     pub poses: bool,
 }
+
+/// The densest air a recording (or a simulation) may give, kg/m³: water's
+/// density, a thousand times sea-level air's.
+pub const MAX_AIR_DENSITY: f64 = 1e3;
 
 /// A whole recording set.
 #[derive(Clone, Debug, PartialEq)]
@@ -156,6 +160,13 @@ fn toml_message(e: &toml::de::Error) -> String {
 fn world(path: &Path, w: &RawWorld) -> Result<World> {
     finite(path, "world.gravity", &w.gravity)?;
     positive(path, "world.air_density", w.air_density)?;
+    within(
+        path,
+        "world.air_density",
+        w.air_density,
+        (1e-9, MAX_AIR_DENSITY),
+        ("kg/m³", "air, not rock"),
+    )?;
     if let Some(mu) = w.air_viscosity {
         positive(path, "world.air_viscosity", mu)?;
     }

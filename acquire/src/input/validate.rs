@@ -27,6 +27,39 @@ pub(crate) fn positive(path: &Path, field: &str, v: f64) -> Result<()> {
     }
 }
 
+/// Checks that a field is finite and within `[lo, hi]` (`unit` and `why`
+/// in the message): a number far outside what a recording can hold is a
+/// typo, and let through it failed much later, blamed on something else.
+pub(crate) fn within(
+    path: &Path,
+    field: &str,
+    v: f64,
+    (lo, hi): (f64, f64),
+    (unit, why): (&str, &str),
+) -> Result<()> {
+    if v.is_finite() && (lo..=hi).contains(&v) {
+        Ok(())
+    } else {
+        Err(Error::at_field(
+            path,
+            field,
+            format!("must be from {lo:e} to {hi:e} {unit} ({why}), found {v:e}"),
+        ))
+    }
+}
+
+/// `v` as a unit vector, or `None` when zero or not finite; scaled by its
+/// largest component first, so that a vector of 1e300s (whose squares
+/// overflow) keeps its direction instead of becoming zero.
+pub(crate) fn unit_vector(v: &nalgebra::Vector3<f64>) -> Option<nalgebra::Vector3<f64>> {
+    let largest = v.amax();
+    if !(largest.is_finite() && largest > 0.0) {
+        return None;
+    }
+    let scaled = v / largest;
+    Some(scaled / scaled.norm())
+}
+
 /// `[w, x, y, z]` normalised, or `None` when zero or non-finite.
 pub fn unit_quaternion(q: &[f64; 4]) -> Option<UnitQuaternion<f64>> {
     let raw = Quaternion::new(q[0], q[1], q[2], q[3]);
