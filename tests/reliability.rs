@@ -329,6 +329,13 @@ fn kite_physical_inputs_are_checked_up_front() {
             fails_naming(&["kite", command, p], &["wind.speed", "60"]);
         }
     }
+    // A primitive of 1e308 m was "primitive size is zero".
+    let huge = text.replacen("size = [0.4, 0.4, 0.3]", "size = [1e308, 0.4, 0.3]", 1);
+    assert_ne!(huge, text, "the test edits the first primitive's size");
+    let path = dir.path().join("huge.toml");
+    std::fs::write(&path, huge).expect("write");
+    let p = path.to_str().expect("utf-8");
+    fails_naming(&["kite", "check", p], &["primitive[0].size", "1000"]);
 }
 
 #[test]

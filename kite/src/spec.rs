@@ -352,6 +352,8 @@ impl PrimitiveSpec {
         all_finite(&format!("{at}.position"), &self.position)?;
         all_finite(&format!("{at}.rotation"), &self.rotation)?;
         all_finite(&format!("{at}.size"), &self.size)?;
+        bounded(&format!("{at}.position"), &self.position, MAX_EXTENT)?;
+        bounded(&format!("{at}.size"), &self.size, MAX_EXTENT)?;
         let [lx, ly, lz] = self.size;
         let field = format!("{at}.size");
         match self.kind {
@@ -403,6 +405,19 @@ fn finite(field: &str, x: f64) -> Result<()> {
 /// The strongest wind a kite is checked or flown in, m/s (hurricane force
 /// is 33 m/s): the kite file's `wind.speed` and the commands' `--wind`.
 pub const MAX_WIND_SPEED: f64 = 60.0;
+
+/// The largest length a kite file may give (a primitive's extent or
+/// position), m: the largest kites flown are tens of metres; 1e308 was
+/// reported as "primitive size is zero" or a non-finite wrench.
+pub const MAX_EXTENT: f64 = 1e3;
+
+/// Every value of `field` within `±max` (m).
+fn bounded(field: &str, values: &[f64], max: f64) -> Result<()> {
+    if let Some(v) = values.iter().find(|v| v.abs() > max) {
+        bail!("{field}: each value must be within ±{max} m (got {v:e})");
+    }
+    Ok(())
+}
 
 fn positive(field: &str, x: f64) -> Result<()> {
     if !(x.is_finite() && x > 0.0) {

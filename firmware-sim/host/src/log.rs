@@ -7,7 +7,7 @@
 //! already in the frame's units). An empty or `nan` sensor cell is a
 //! dropout and goes to the firmware as NaN, which the firmware must count
 //! and skip; text that is not a number, a missing field, and a time that
-//! is not a finite number of seconds >= 0 are errors naming file, line
+//! is not a number of seconds from 0 to 1e12 are errors naming file, line
 //! and column, because they are a broken file, not a sensor reading.
 
 use anyhow::{anyhow, bail, Context, Result};
@@ -95,10 +95,10 @@ fn parse_log(name: &str, text: &str, max: Option<usize>) -> Result<Vec<SensorFra
             v.push(number(cell).with_context(|| place(col))?);
         }
         let Some(&time) = v.first() else { continue };
-        if !(time.is_finite() && time >= 0.0) {
+        if !(time.is_finite() && (0.0..=MAX_TIME_S).contains(&time)) {
             let col = idx.first().copied().unwrap_or(0);
             bail!(
-                "{}: time `{time}` is not a finite number of seconds >= 0",
+                "{}: time `{time:e}` is not a number of seconds from 0 to {MAX_TIME_S:e}",
                 place(col)
             );
         }
@@ -121,7 +121,12 @@ fn number(cell: &str) -> Result<f64> {
         .map_err(|_| anyhow!("`{s}` is not a number"))
 }
 
-/// Milliseconds of a time in seconds (finite, >= 0).
+/// The latest time a log row may carry, s: Unix time of the year 33,658,
+/// far past any log, while its milliseconds still fit a `u64` exactly
+/// enough (a row at 1e308 s became `u64::MAX` ms).
+const MAX_TIME_S: f64 = 1e12;
+
+/// Milliseconds of a time in seconds (finite, from 0 to [`MAX_TIME_S`]).
 fn millis(seconds: f64) -> u64 {
     (seconds * 1000.0).round().max(0.0) as u64
 }
@@ -213,7 +218,7 @@ mod tests {
     #[test]
     fn non_finite_time_is_rejected_naming_the_line() {
         let ok = "0.1,1,0,0,0,0,0,0,20,5,3000,0.3,0";
-        for bad in ["nan", "inf", "-1"] {
+        for bad in ["nan", "inf", "-1", "1e308"] {
             let row = format!("{bad},1,0,0,0,0,0,0,20,5,3000,0.3,0");
             let err = parse_log("t.csv", &log(&[ok, &row]), None).unwrap_err();
             let msg = format!("{err:#}");
