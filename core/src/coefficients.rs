@@ -159,11 +159,12 @@ impl<T: LaneScalar> Coefficients<T> {
         }
         let mut pole = pole;
         let mut len = crate::math::norm(&pole);
-        if !(len.finite() && len > T::zero()) {
+        if !(len.finite() && len > T::of_f64(1e-15)) {
             // Scaled by its largest component first: the squares of a pole
             // of 1e200s overflow (pole / inf is the zero vector), those of
-            // 1e-200s underflow. Only then, so that a stored unit pole is
-            // read back bit for bit.
+            // 1e-162s are subnormal (imprecise) or zero. Only for such
+            // lengths, so that a stored unit pole is read back bit for bit
+            // (1e-15: f32 squares stay normal above it).
             let largest = pole.iter().fold(T::zero(), |m, &c| m.max(c.abs()));
             if largest <= T::zero() {
                 return Err(ModelError::BadPole);

@@ -98,5 +98,8 @@ fn a_pole_of_huge_components_is_normalised_not_zeroed() {
         "{}",
         m.pole()
     );
+    // Subnormal squares: the plain norm is finite but imprecise.
+    let m = Coefficients::<f64>::zeros(2, Vector3::new(3e-162, 0.0, 0.0), 0.5).expect("tiny");
+    assert_eq!(m.pole(), Vector3::x());
     assert!(Coefficients::<f64>::zeros(2, Vector3::zeros(), 0.5).is_err());
 }

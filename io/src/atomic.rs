@@ -5,12 +5,14 @@
 //! the complete new one. The temporary file lives in the target's folder
 //! (a rename cannot cross file systems) and is removed when anything fails.
 //!
-//! What a rename must not replace: a symbolic link is followed (its target
-//! is replaced, the link kept, as `cp` does), and a file that is not a
-//! regular one (a device such as `/dev/stdout` or `/dev/full`, a FIFO) is
-//! written through, not renamed over: renaming over `/dev/full` would turn
-//! the device into a regular file. And a command's output must never be one
-//! of its own inputs ([`refuse_input`]).
+//! What a rename must not replace ([`destination`]): a symbolic link is
+//! followed (its target is written, created when missing, the link kept,
+//! as `cp` does); a file that is not a regular one (a device, a FIFO) and
+//! anything under `/dev` or `/proc` is written through, appended to, not
+//! renamed over: renaming over `/dev/full` turned the device into a regular
+//! file, and `-o /dev/stdout` must reach the pipe or the file the shell
+//! redirected it to, as a shell's `>>` would. And a command's output must
+//! never be one of its own inputs ([`refuse_input`]).
 
 use std::fs::{self, File, OpenOptions};
 use std::io::{self, BufWriter, Write};
@@ -34,23 +36,11 @@ where
             "is a folder, not a file",
         ));
     }
-    let resolved;
-    let path = match fs::symlink_metadata(path) {
-        Ok(m) if m.file_type().is_symlink() => {
-            resolved = fs::canonicalize(path).map_err(|e| {
-                io::Error::new(
-                    e.kind(),
-                    format!("is a link to nothing that can be written ({e})"),
-                )
-            })?;
-            resolved.as_path()
-        }
-        _ => path,
+    let path = match destination(path)? {
+        Destination::Through(p) => return write_through(&p, fill),
+        Destination::Replace(p) => p,
     };
-    match fs::metadata(path) {
-        Ok(m) if !m.is_file() => return write_through(path, fill),
-        _ => {}
-    }
+    let path = path.as_path();
     let (tmp, file) = create_temporary(path)?;
     let result = (|| {
         let mut w = BufWriter::new(file);
@@ -65,13 +55,54 @@ where
     result
 }
 
+/// Where an output named `path` is written.
+#[derive(Debug, PartialEq, Eq)]
+enum Destination {
+    /// A regular file (or none yet): replaced by a rename.
+    Replace(PathBuf),
+    /// A device, a FIFO, or a process's file: written through.
+    Through(PathBuf),
+}
+
+/// Most symbolic links followed from one output path (Linux's own limit).
+const MAX_LINKS: usize = 40;
+
+/// [`Destination`] of `path` (see the module comment): links followed one
+/// by one, so a dangling link gives the file it names.
+fn destination(path: &Path) -> io::Result<Destination> {
+    if path.starts_with("/dev") || path.starts_with("/proc") {
+        return Ok(Destination::Through(path.to_path_buf()));
+    }
+    let mut p = path.to_path_buf();
+    for _ in 0..MAX_LINKS {
+        match fs::symlink_metadata(&p) {
+            Ok(m) if m.file_type().is_symlink() => {
+                let target = fs::read_link(&p)?;
+                p = match p.parent() {
+                    Some(dir) if target.is_relative() => dir.join(target),
+                    _ => target,
+                };
+                if p.starts_with("/dev") || p.starts_with("/proc") {
+                    return Ok(Destination::Through(path.to_path_buf()));
+                }
+            }
+            Ok(m) if !m.is_file() => return Ok(Destination::Through(p)),
+            _ => return Ok(Destination::Replace(p)),
+        }
+    }
+    Err(io::Error::new(
+        io::ErrorKind::InvalidInput,
+        format!("more than {MAX_LINKS} links to follow"),
+    ))
+}
+
 /// Writes `fill` straight into an existing file that is not a regular one
-/// (a device or a FIFO), which a rename would replace.
+/// (a device, a FIFO, a process's file), appending as a shell's `>>` does.
 fn write_through<F>(path: &Path, fill: F) -> io::Result<()>
 where
     F: FnOnce(&mut dyn Write) -> io::Result<()>,
 {
-    let file = OpenOptions::new().write(true).open(path)?;
+    let file = OpenOptions::new().append(true).open(path)?;
     let mut w = BufWriter::new(file);
     fill(&mut w)?;
     w.flush()
@@ -226,6 +257,61 @@ mod tests {
             fs::read_dir(dir.path()).unwrap().count(),
             2,
             "no temporary left"
+        );
+    }
+
+    #[test]
+    fn a_dangling_link_creates_its_target_and_stays_a_link() {
+        let dir = tempfile::tempdir().unwrap();
+        fs::create_dir(dir.path().join("runs")).unwrap();
+        let link = dir.path().join("latest.omni");
+        std::os::unix::fs::symlink("runs/model.omni", &link).unwrap();
+        write_atomic(&link, b"new").unwrap();
+        assert!(fs::symlink_metadata(&link)
+            .unwrap()
+            .file_type()
+            .is_symlink());
+        assert_eq!(
+            fs::read_to_string(dir.path().join("runs/model.omni")).unwrap(),
+            "new"
+        );
+    }
+
+    #[test]
+    fn a_link_loop_is_an_error_not_a_hang() {
+        let dir = tempfile::tempdir().unwrap();
+        let (a, b) = (dir.path().join("a"), dir.path().join("b"));
+        std::os::unix::fs::symlink(&b, &a).unwrap();
+        std::os::unix::fs::symlink(&a, &b).unwrap();
+        let err = write_atomic(&a, b"x").unwrap_err();
+        assert!(err.to_string().contains("links"), "{err}");
+        assert!(fs::symlink_metadata(&a).unwrap().file_type().is_symlink());
+    }
+
+    /// The standard streams are process files: written through (to the
+    /// pipe, or appended to the file the shell redirected them to), never
+    /// resolved and renamed over.
+    #[test]
+    fn the_standard_streams_are_written_through() {
+        for p in [
+            "/dev/stdout",
+            "/dev/stderr",
+            "/dev/fd/1",
+            "/proc/self/fd/1",
+            "/dev/null",
+        ] {
+            assert_eq!(
+                destination(Path::new(p)).unwrap(),
+                Destination::Through(PathBuf::from(p)),
+                "{p}"
+            );
+        }
+        let dir = tempfile::tempdir().unwrap();
+        let link = dir.path().join("out");
+        std::os::unix::fs::symlink("/dev/stdout", &link).unwrap();
+        assert_eq!(
+            destination(&link).unwrap(),
+            Destination::Through(link.clone())
         );
     }
 

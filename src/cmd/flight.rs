@@ -99,10 +99,10 @@ fn fit(a: &FitArgs) -> Result<()> {
         degree: usize::from(a.degree),
     };
     if let Some(path) = &a.output {
-        // Every file of the flight folder is a possible input.
-        let inputs: Vec<std::path::PathBuf> = std::fs::read_dir(&a.dir)
-            .map(|d| d.filter_map(|e| e.ok().map(|e| e.path())).collect())
-            .unwrap_or_default();
+        // The cycle files the fit reads (a model written into the folder
+        // before is none of them, so a re-run may replace it).
+        let cycles: Vec<u32> = cfg.train.iter().chain(&cfg.test).copied().collect();
+        let inputs = omniad_flight::log::find_cycles(&a.dir, &cycles).unwrap_or_default();
         super::common::refuse_input(path, &inputs)?;
     }
     anyhow::ensure!(!cfg.train.is_empty(), "--train names no cycle");

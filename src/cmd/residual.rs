@@ -42,7 +42,11 @@ pub struct ResidualArgs {
 pub fn run(a: &ResidualArgs) -> Result<()> {
     let set = load(&a.set)?;
     if let Some(out) = &a.output {
-        super::common::refuse_input(out, &set.files)?;
+        // The set's files, the given base model and the truth it reads.
+        let mut inputs = set.files.clone();
+        inputs.extend(a.coeffs.iter().cloned());
+        inputs.push(a.set.join("truth").join("model.omni"));
+        super::common::refuse_input(out, &inputs)?;
     }
     let given = match a.coeffs.as_deref() {
         Some(path) => Some(given_model(path, &a.set, &set, a.degree)?),

@@ -152,14 +152,16 @@ fn validate(a: &SimulateArgs) -> Result<u64> {
     }
     if a.dt > a.duration && a.duration > 0.0 {
         bail!(
-            "--dt {} s is longer than --duration {} s: not one step would be run",
+            "--dt {} s is longer than --duration {} s: one step would overshoot the run",
             a.dt,
             a.duration
         );
     }
     // At least the duration asked for (rounding gave 0.7 s of a 1 s run at
-    // --dt 0.7); the tolerance keeps 1 / 0.001 at 1000 steps.
-    let steps = (a.duration / a.dt - 1e-9).ceil().max(0.0);
+    // --dt 0.7); the relative tolerance keeps 1 / 0.001 at 1000 steps and
+    // 2.2 / 1e-7 at 22 million.
+    let ratio = a.duration / a.dt;
+    let steps = (ratio - 1e-12 * ratio.max(1.0)).ceil().max(0.0);
     if steps > MAX_STEPS {
         bail!(
             "--duration {} s at --dt {} s is {steps:.3e} RK4 steps; at most {MAX_STEPS:.0e} are run \

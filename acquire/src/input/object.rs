@@ -44,13 +44,13 @@ pub(crate) struct RawObject {
     pub markers: BTreeMap<String, [f64; 3]>,
 }
 
-/// The validated object of `recording.toml` at `path`.
 /// The heaviest object a recording may describe, kg (a kite with its
 /// control unit is tens of kg).
 pub const MAX_MASS: f64 = 1e4;
 /// The longest reference length a recording may give, m.
 pub const MAX_REFERENCE_LENGTH: f64 = 1e3;
 
+/// The validated object of `recording.toml` at `path`.
 pub(crate) fn object(path: &Path, o: RawObject) -> Result<Object> {
     positive(path, "object.mass", o.mass)?;
     within(
