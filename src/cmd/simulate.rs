@@ -160,8 +160,14 @@ fn validate(a: &SimulateArgs) -> Result<u64> {
     // At least the duration asked for (rounding gave 0.7 s of a 1 s run at
     // --dt 0.7); the relative tolerance keeps 1 / 0.001 at 1000 steps and
     // 2.2 / 1e-7 at 22 million.
+    // (An overflowing ratio stays infinite: inf - inf would be NaN, and
+    // NaN.max(0) zero steps.)
     let ratio = a.duration / a.dt;
-    let steps = (ratio - 1e-12 * ratio.max(1.0)).ceil().max(0.0);
+    let steps = if ratio.is_finite() {
+        (ratio - 1e-12 * ratio.max(1.0)).ceil().max(0.0)
+    } else {
+        f64::INFINITY
+    };
     if steps > MAX_STEPS {
         bail!(
             "--duration {} s at --dt {} s is {steps:.3e} RK4 steps; at most {MAX_STEPS:.0e} are run \
