@@ -22,14 +22,12 @@ pub fn write(path: &Path, model: &Coefficients<f64>) -> Result<()> {
             path.display()
         ))
     })?;
-    let unreadable = |e: String| {
+    decode(bytes).map_err(|e| {
         Error::Data(format!(
             "{}: not written, no reader would take it: {e}",
             path.display()
         ))
-    };
-    let back = file::decode::<f64>(bytes).map_err(|e| unreadable(e.to_string()))?;
-    plausible(&back).map_err(unreadable)?;
+    })?;
     omniad_io::write_atomic(path, bytes).map_err(|e| Error::io(path, e))
 }
 
@@ -41,9 +39,14 @@ pub fn write(path: &Path, model: &Coefficients<f64>) -> Result<()> {
 pub fn read(path: &Path) -> Result<Coefficients<f64>> {
     let bytes =
         omniad_io::read_capped(path, file::MAX_FILE_SIZE).map_err(|e| Error::io(path, e))?;
-    let model =
-        file::decode::<f64>(&bytes).map_err(|e| Error::Data(format!("{}: {e}", path.display())))?;
-    plausible(&model).map_err(|e| Error::Data(format!("{}: {e}", path.display())))?;
+    decode(&bytes).map_err(|e| Error::Data(format!("{}: {e}", path.display())))
+}
+
+/// The model `bytes` hold, checked as every reader checks it (the format's
+/// own checks, then [`plausible`]); the error says what is wrong.
+fn decode(bytes: &[u8]) -> std::result::Result<Coefficients<f64>, String> {
+    let model = file::decode::<f64>(bytes).map_err(|e| e.to_string())?;
+    plausible(&model)?;
     Ok(model)
 }
 

@@ -157,31 +157,15 @@ impl<T: LaneScalar> Coefficients<T> {
         if !crate::math::vector_is_finite(&pole) {
             return Err(ModelError::NonFinite("pole"));
         }
-        let mut pole = pole;
-        let mut len = crate::math::norm(&pole);
-        if !(len.finite() && len > T::of_f64(1e-15)) {
-            // Scaled by its largest component first: the squares of a pole
-            // of 1e200s overflow (pole / inf is the zero vector), those of
-            // 1e-162s are subnormal (imprecise) or zero. Only for such
-            // lengths, so that a stored unit pole is read back bit for bit
-            // (1e-15: f32 squares stay normal above it).
-            let largest = pole.iter().fold(T::zero(), |m, &c| m.max(c.abs()));
-            if largest <= T::zero() {
-                return Err(ModelError::BadPole);
-            }
-            pole /= largest;
-            len = crate::math::norm(&pole);
-        }
-        if len <= T::zero() {
-            return Err(ModelError::BadPole);
-        }
+        // Huge and tiny poles keep their direction (`unit_vector`).
+        let pole = crate::math::unit_vector(&pole).ok_or(ModelError::BadPole)?;
         if !reference_length.finite() {
             return Err(ModelError::NonFinite("reference_length"));
         }
         if reference_length <= T::zero() {
             return Err(ModelError::BadReferenceLength);
         }
-        Ok((pole / len, reference_length))
+        Ok((pole, reference_length))
     }
 
     /// SH degree N of the force (alpha, eq. 7).

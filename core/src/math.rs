@@ -158,6 +158,29 @@ pub fn norm<T: Real>(v: &Vector3<T>) -> T {
     v.dot(v).root()
 }
 
+/// `v` over its length, or `None` when it is zero or not finite. Scaled by
+/// its largest component first only when its plain length is not a normal
+/// number above 1e-15 (the squares of 1e200s overflow, and `v / inf` is
+/// the zero vector; those of 1e-162s are subnormal, imprecise, or zero;
+/// f32 squares stay normal above 1e-15), so that an ordinary vector, a
+/// stored unit pole above all, comes back bit for bit.
+pub fn unit_vector<T: Real>(v: &Vector3<T>) -> Option<Vector3<T>> {
+    if !vector_is_finite(v) {
+        return None;
+    }
+    let mut v = *v;
+    let mut len = norm(&v);
+    if !(len.finite() && len > T::of_f64(1e-15)) {
+        let largest = v.iter().fold(T::zero(), |m, &c| m.max(c.abs()));
+        if largest <= T::zero() {
+            return None;
+        }
+        v /= largest;
+        len = norm(&v);
+    }
+    (len > T::zero()).then(|| v / len)
+}
+
 /// The packing of a symmetric 3x3 matrix into six numbers: `[xx, yy, zz,
 /// xy, xz, yz]`. Every symmetric tensor of the model uses it (the damping
 /// tensor D, inertia tensors in files and [`crate::coefficients::MassProperties`],

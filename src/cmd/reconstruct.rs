@@ -27,9 +27,13 @@ pub struct ReconstructArgs {
 /// Runs `omniad reconstruct`.
 pub fn run(a: &ReconstructArgs) -> Result<()> {
     let set = super::fit::load(&a.set)?;
-    for take in &set.takes {
-        let path = a.output.join(format!("{}.csv", take.name));
-        super::common::refuse_input(&path, &set.files)?;
+    let paths: Vec<PathBuf> = set
+        .takes
+        .iter()
+        .map(|take| a.output.join(format!("{}.csv", take.name)))
+        .collect();
+    for path in &paths {
+        super::common::refuse_input(path, &set.files)?;
     }
     let cfg = FitConfig {
         degree: a.degree,
@@ -54,10 +58,9 @@ pub fn run(a: &ReconstructArgs) -> Result<()> {
     drop(bars);
     std::fs::create_dir_all(&a.output)
         .with_context(|| format!("cannot create {}", a.output.display()))?;
-    for (take, s) in set.takes.iter().zip(&smoothed) {
-        let path = a.output.join(format!("{}.csv", take.name));
+    for (path, s) in paths.iter().zip(&smoothed) {
         let rows = s.times.iter().copied().zip(&s.states);
-        state_csv::write_states(&path, rows, TimeFormat::Micros)
+        state_csv::write_states(path, rows, TimeFormat::Micros)
             .with_context(|| format!("cannot write {}", path.display()))?;
     }
     println!("wrote {} takes to {}", smoothed.len(), a.output.display());

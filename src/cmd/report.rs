@@ -29,23 +29,6 @@ pub struct ReportArgs {
 
 /// Runs `omniad report`.
 pub fn run(a: &ReportArgs) -> Result<()> {
-    // The report's files must not replace what it reads: the set's files
-    // or the file it compares with.
-    let set_files = omniad_acquire::input::recording::RecordingSet::load(&a.set)
-        .map(|s| s.files)
-        .unwrap_or_default();
-    let inputs: Vec<&std::path::Path> = set_files
-        .iter()
-        .map(|p| p.as_path())
-        .chain(a.compare.as_deref())
-        .collect();
-    for name in [
-        "report.md",
-        "report.json",
-        omniad_validate::report::MODEL_FILE,
-    ] {
-        super::common::refuse_input(&a.output.join(name), &inputs)?;
-    }
     let compare = a
         .compare
         .as_ref()
@@ -72,9 +55,11 @@ pub fn run(a: &ReportArgs) -> Result<()> {
     } else {
         &omniad_validate::resolution::DEGREES
     };
+    let reads: Vec<&std::path::Path> = a.compare.as_deref().into_iter().collect();
     let opts = omniad_validate::report::Options {
         command: &command,
         compare: compare.as_ref().map(|m| (name.as_str(), m)),
+        reads: &reads,
         degrees,
         save_model: write_coefficients,
     };

@@ -35,6 +35,9 @@ pub struct Options<'a> {
     /// Another coefficient file to compare with the measured curves
     /// (e.g. the bundled `data/plate.omni`), with its name.
     pub compare: Option<(&'a str, &'a Coefficients<f64>)>,
+    /// The files the command read besides the set (the comparison file):
+    /// like the set's own, the report never writes over one.
+    pub reads: &'a [&'a Path],
     /// Degrees of the Fig. 8 sweep (empty: none).
     pub degrees: &'a [u8],
     /// Writes a coefficient file atomically (the CLI's `.omni` writer),
@@ -72,8 +75,9 @@ fn shape_of(set: &RecordingSet) -> Shape {
 
 /// Writes the report of the set in `set_dir` into `out`; returns its JSON.
 pub fn run(set_dir: &Path, out: &Path, opts: &Options<'_>) -> Result<Value> {
-    std::fs::create_dir_all(out).with_context(|| format!("creating {}", out.display()))?;
     let set = RecordingSet::load(set_dir).map_err(|e| anyhow!("{e}"))?;
+    refuse_inputs(out, &set, opts.reads)?;
+    std::fs::create_dir_all(out).with_context(|| format!("creating {}", out.display()))?;
     let fit =
         pipeline::fit(&set, &FitConfig::default(), &Silent).map_err(|e| anyhow!("fit: {e}"))?;
     let mut md = format!(
@@ -103,6 +107,22 @@ pub fn run(set_dir: &Path, out: &Path, opts: &Options<'_>) -> Result<Value> {
     write(out, "report.md", &md)?;
     write(out, "report.json", &serde_json::to_string_pretty(&json)?)?;
     Ok(json)
+}
+
+/// An error, before any work, when a file the report writes in `out` is
+/// one the command reads: the set's or one of `reads`
+/// (`omniad_io::refuse_input`).
+fn refuse_inputs(out: &Path, set: &RecordingSet, reads: &[&Path]) -> Result<()> {
+    let inputs: Vec<&Path> = set
+        .files
+        .iter()
+        .map(|p| p.as_path())
+        .chain(reads.iter().copied())
+        .collect();
+    for name in ["report.md", "report.json", MODEL_FILE] {
+        omniad_io::refuse_input(&out.join(name), &inputs)?;
+    }
+    Ok(())
 }
 
 fn fig13(

@@ -2,8 +2,9 @@
 //! reference length, pole and markers, validated field by field.
 
 use crate::error::{Error, Result};
-use crate::input::validate::{finite, positive, unit_vector, within};
+use crate::input::validate::{finite, within};
 use nalgebra::{Matrix3, Vector3};
+use omniad_core::math::unit_vector;
 use serde::Deserialize;
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -52,7 +53,6 @@ pub const MAX_REFERENCE_LENGTH: f64 = 1e3;
 
 /// The validated object of `recording.toml` at `path`.
 pub(crate) fn object(path: &Path, o: RawObject) -> Result<Object> {
-    positive(path, "object.mass", o.mass)?;
     within(
         path,
         "object.mass",

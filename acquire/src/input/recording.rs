@@ -159,7 +159,6 @@ fn toml_message(e: &toml::de::Error) -> String {
 
 fn world(path: &Path, w: &RawWorld) -> Result<World> {
     finite(path, "world.gravity", &w.gravity)?;
-    positive(path, "world.air_density", w.air_density)?;
     within(
         path,
         "world.air_density",

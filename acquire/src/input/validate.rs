@@ -48,18 +48,6 @@ pub(crate) fn within(
     }
 }
 
-/// `v` as a unit vector, or `None` when zero or not finite; scaled by its
-/// largest component first, so that a vector of 1e300s (whose squares
-/// overflow) keeps its direction instead of becoming zero.
-pub(crate) fn unit_vector(v: &nalgebra::Vector3<f64>) -> Option<nalgebra::Vector3<f64>> {
-    let largest = v.amax();
-    if !(largest.is_finite() && largest > 0.0) {
-        return None;
-    }
-    let scaled = v / largest;
-    Some(scaled / scaled.norm())
-}
-
 /// `[w, x, y, z]` normalised, or `None` when zero or non-finite.
 pub fn unit_quaternion(q: &[f64; 4]) -> Option<UnitQuaternion<f64>> {
     let raw = Quaternion::new(q[0], q[1], q[2], q[3]);
